@@ -1,0 +1,9 @@
+#pragma once
+// Subcommands of the `vmas` tool. Each parses its own options and returns the exit code:
+// 0 success, 1 run error, 2 usage error. Errors escape as exceptions and main() prints them.
+namespace vmas::cli {
+
+int skeletonize_command(int argc, const char* const* argv);
+int eval_command(int argc, const char* const* argv);
+
+}  // namespace vmas::cli

@@ -1,0 +1,43 @@
+// vmas: command-line front end. Dispatches to a subcommand and maps errors to exit codes.
+#include <boost/program_options/errors.hpp>
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "commands.hpp"
+#include "vmas/error.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "vmas: skeletonize a shape by variational medial axis sampling\n"
+    "\n"
+    "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
+    "       vmas eval SHAPE MEDIAL [--json]\n"
+    "       vmas COMMAND --help\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    std::cout << kUsage;
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "skeletonize") return vmas::cli::skeletonize_command(argc - 1, argv + 1);
+    if (command == "eval") return vmas::cli::eval_command(argc - 1, argv + 1);
+    std::cerr << "vmas: unknown command '" << command << "' (try: vmas --help)\n";
+    return 2;
+  } catch (const boost::program_options::error& e) {
+    std::cerr << "vmas " << command << ": " << e.what() << " (try: vmas " << command
+              << " --help)\n";
+    return 2;
+  } catch (const vmas::InvalidOption& e) {
+    std::cerr << "vmas " << command << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "vmas " << command << ": " << e.what() << "\n";
+    return 1;
+  }
+}

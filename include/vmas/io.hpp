@@ -1,0 +1,50 @@
+#pragma once
+// Reading shapes (meshes and point clouds) and reading/writing medial meshes and labels.
+// Every function throws IoError with a one-line message "PATH: problem" on failure; writers go
+// through a temporary file and a rename, so no half-written output is ever left behind.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+// What read_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
+struct CleanReport {
+  std::size_t non_finite_points = 0;   // points with a NaN/Inf coordinate or normal (dropped)
+  std::size_t duplicate_points = 0;    // points at the same coordinates as an earlier one (merged)
+  std::size_t degenerate_faces = 0;    // faces with a repeated or dropped vertex, or zero area
+  std::size_t unused_points = 0;       // mesh vertices referenced by no face (dropped)
+  std::size_t total() const {
+    return non_finite_points + duplicate_points + degenerate_faces + unused_points;
+  }
+};
+
+// Reads a mesh or a point cloud, chosen by extension (case-insensitive):
+//   .off (OFF/NOFF/COFF, comments; a file with no faces is a cloud), .ply (ASCII or binary,
+//   unknown elements and properties skipped), .obj (v/vn/f), .xyz/.txt (3 or 6 columns),
+//   .pcd (ascii, binary, binary_compressed).
+// Then cleans it (see clean_surface) and fills `report` if given. Throws IoError when the file is
+// missing, unreadable, of unknown format, truncated or malformed, or holds no usable point.
+SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
+
+// Removes non-finite points, merges exact duplicates (remapping faces), drops degenerate faces
+// and, for meshes, unreferenced vertices. Normals are renormalised; zero normals count as non-finite.
+CleanReport clean_surface(SurfaceInput& surface);
+
+// Writes a mesh or cloud: .ply (binary, with normals if present), .off, .xyz (with normals if present).
+void write_surface(const std::string& path, const SurfaceInput& surface);
+
+// Medial mesh: .ply (vertex x y z radius, edge vertex1 vertex2, face vertex_indices) or .ma
+// (Q-MAT format: "nv ne nf", then v/e/f lines, 0-based).
+MedialMesh read_medial_mesh(const std::string& path);
+void write_medial_mesh(const std::string& path, const MedialMesh& mesh);
+
+// One cluster label per input point, one integer per line.
+void write_labels(const std::string& path, const std::vector<int>& labels);
+
+// Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
+void write_file_atomically(const std::string& path, const std::string& contents);
+
+}  // namespace vmas

@@ -1,0 +1,33 @@
+#pragma once
+// Exact nearest-neighbour queries over a fixed point set (FLANN single KD-tree, unlimited
+// checks). Queries are const and safe to run from several threads at once.
+#include <memory>
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+class KdTree {
+ public:
+  explicit KdTree(const std::vector<Vec3>& points);
+  ~KdTree();
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+
+  std::size_t size() const { return count_; }
+
+  // Index of the point closest to `query`; its squared distance in `squared_distance`.
+  int nearest(const Vec3& query, double* squared_distance = nullptr) const;
+
+  // The k nearest points, closest first (fewer if the set is smaller than k).
+  void k_nearest(const Vec3& query, int k, std::vector<int>& indices,
+                 std::vector<double>& squared_distances) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::size_t count_ = 0;
+};
+
+}  // namespace vmas

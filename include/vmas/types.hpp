@@ -1,0 +1,34 @@
+#pragma once
+// Plain data shared by every stage: the input surface and the medial mesh.
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+namespace vmas {
+
+using Vec3 = Eigen::Vector3d;
+
+struct Sphere {
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;
+};
+
+// The input shape as read from disk: a triangle mesh when `faces` is non-empty, otherwise a
+// point cloud. `normals` is empty (none given) or has one unit normal per point.
+struct SurfaceInput {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;
+  std::vector<std::array<int, 3>> faces;
+
+  bool is_mesh() const { return !faces.empty(); }
+  bool has_normals() const { return !normals.empty(); }
+};
+
+// The skeleton: medial spheres plus edges and triangles between them (0-based indices).
+struct MedialMesh {
+  std::vector<Sphere> spheres;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> faces;
+};
+
+}  // namespace vmas
