@@ -1,0 +1,19 @@
+#pragma once
+// Connectivity (paper §3.5): the dual of the partition. Two spheres are joined by an edge when
+// their clusters touch across an edge of the neighbour graph, and three mutually adjacent
+// clusters give a triangle.
+#include <vector>
+
+#include "vmas/shape.hpp"
+
+namespace vmas {
+
+// Sorted, symmetric adjacency lists of the clusters 0..cluster_count-1.
+std::vector<std::vector<int>> cluster_adjacency(const Shape& shape, const std::vector<int>& labels,
+                                                int cluster_count);
+
+// Edges (i < j, every adjacent pair, face edges included) and faces (i < j < k, every 3-clique).
+MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
+                             const std::vector<std::vector<int>>& adjacency);
+
+}  // namespace vmas

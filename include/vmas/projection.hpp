@@ -1,0 +1,39 @@
+#pragma once
+// Projection onto the medial axis (paper §3.3, "Sphere projection") by the shrinking-ball
+// algorithm (Ma, Bae, Choi 2012) over an exact KD-tree of the input points, with the
+// separation-angle denoising of Peters & Ledoux (2016).
+#include "vmas/kdtree.hpp"
+#include "vmas/shape.hpp"
+
+namespace vmas {
+
+struct ShrinkingBallOptions {
+  int max_iterations = 30;
+  double tolerance = 1e-5;          // δ, relative to the bounding-box diagonal
+  double initial_radius = 1.0;      // first ball radius, relative to the diagonal
+  double denoise_angle_deg = 20.0;  // stop shrinking when the two contacts separate by less
+                                    // than this (noise, not a medial feature); 0 disables it
+  void validate() const;            // throws InvalidOption
+};
+
+class MedialProjector {
+ public:
+  MedialProjector(const Shape& shape, const ShrinkingBallOptions& options);
+
+  // The largest empty ball touching `vertex` whose centre lies along the unit `inward` direction.
+  Sphere shrink(int vertex, const Vec3& inward) const;
+
+  // Moves a fitted sphere centre onto the medial axis: the shrinking ball from the input point
+  // closest to `center`, in the direction of `center` if that points inside, else along −normal.
+  Sphere project(const Vec3& center) const;
+
+  const KdTree& tree() const { return tree_; }
+
+ private:
+  const Shape& shape_;
+  ShrinkingBallOptions options_;
+  KdTree tree_;
+  double cos_denoise_;
+};
+
+}  // namespace vmas

@@ -1,0 +1,37 @@
+#pragma once
+// The shape as the method sees it (paper §3.1): positions, outward unit normals, per-vertex
+// support area A(v), the diffused quadric Q_v of each vertex, and a symmetric neighbour graph
+// (mesh edges, or the k-NN graph of a cloud) used for cluster adjacency.
+#include <vector>
+
+#include "vmas/sqem.hpp"
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+struct ShapeOptions {
+  int k = 6;  // neighbours per point for clouds: the k-NN graph and the quadric diffusion (eq. 5)
+  void validate() const;  // throws InvalidOption
+};
+
+struct Shape {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;     // unit, outward
+  std::vector<double> area;      // A(v) (eq. 4 and 6)
+  std::vector<Sqem> quadric;     // Q_v (eq. 5 and 7)
+  std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
+  std::vector<int> neighbours;         //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
+  bool is_mesh = false;
+  Vec3 box_min = Vec3::Zero();
+  Vec3 box_max = Vec3::Zero();
+  double diagonal = 0.0;    // bounding-box diagonal: the unit of every relative length
+  double total_area = 0.0;
+
+  int size() const { return static_cast<int>(points.size()); }
+};
+
+// Builds the shape from a cleaned input. Meshes take their normals and areas from the faces
+// (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput otherwise).
+Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
+
+}  // namespace vmas

@@ -1,0 +1,104 @@
+#pragma once
+// The optimisation state and loop of variational medial axis sampling (paper §3): spheres,
+// the partition of the shape among them, per-cluster errors and frozen flags. Every front end
+// (CLI, benchmark, an interactive viewer) drives this object; spheres can be added, removed or
+// frozen between steps while the optimisation goes on.
+//
+// Sphere ids are indices into spheres(); removing a sphere shifts the later ids down by one.
+#include <functional>
+#include <vector>
+
+#include "vmas/projection.hpp"
+#include "vmas/shape.hpp"
+#include "vmas/split.hpp"
+#include "vmas/update.hpp"
+
+namespace vmas {
+
+struct SkeletonizerOptions {
+  double lambda = 0.2;            // weight of the point–sphere term (eq. 8, 11)
+  int target_spheres = 0;         // stop splitting at this many spheres (0: no count target)
+  double error_threshold = 0.0;   // split clusters whose RMS error √E(C) exceeds this, relative
+                                  // to the diagonal (0: no error target)
+  int max_spheres = 5000;         // hard cap when only an error threshold is given
+  int max_iterations = 3000;      // partition + update steps in run()
+  double convergence = 1e-5;      // converged when the total error changes by less (relative)
+  int split_interval = 10;        // split at least every this many steps while spheres are missing
+  int settle_iterations = 5;      // steps after the last split before run() may stop
+  int min_cluster_size = 4;       // spheres with fewer vertices are removed after a partition
+  bool project = true;            // shrinking-ball correction after every update (§3.3)
+  UpdateOptions update;
+  ShrinkingBallOptions shrinking_ball;
+  SplitOptions split;
+
+  void validate() const;  // throws InvalidOption; needs a sphere target or an error threshold
+};
+
+struct StageTimes {  // seconds spent in each stage so far
+  double partition = 0.0, update = 0.0, projection = 0.0, split = 0.0;
+};
+
+struct Progress {
+  int iteration = 0;
+  int spheres = 0;
+  double error = 0.0;  // total error Σ E_v / A(shape)
+};
+
+struct RunSummary {
+  int iterations = 0;
+  int spheres = 0;
+  double error = 0.0;
+  bool converged = false;  // false when max_iterations stopped the run
+};
+
+class Skeletonizer {
+ public:
+  // Starts from one sphere fitted to the whole shape (paper §3.2) and projected on the medial axis.
+  Skeletonizer(Shape shape, const SkeletonizerOptions& options);
+  Skeletonizer(const Skeletonizer&) = delete;  // the projector refers to shape_
+  Skeletonizer& operator=(const Skeletonizer&) = delete;
+
+  // One partition + update (+ projection) step; returns the total error.
+  double step();
+  // One split round (§3.4); returns the number of spheres added.
+  int split();
+  // Steps and splits until the target is met and the error has settled.
+  RunSummary run(const std::function<void(const Progress&)>& progress = {});
+
+  // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
+  // whose cluster stays below min_cluster_size is removed by the next step().
+  int add_sphere_at(int vertex);  // the shrinking ball at `vertex`; returns its id
+  void remove_sphere(int id);
+  void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
+
+  MedialMesh medial_mesh() const;
+  const std::vector<Sphere>& spheres() const { return spheres_; }
+  const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
+  const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
+  bool frozen(int id) const { return frozen_.at(id); }
+  const Shape& shape() const { return shape_; }
+  const SkeletonizerOptions& options() const { return options_; }
+  const StageTimes& times() const { return times_; }
+  double total_error() const { return total_error_; }
+
+ private:
+  void repartition();           // partition, then refresh members and errors
+  bool remove_tiny_clusters();  // drops spheres with too few vertices; true if any went
+  void refresh_errors();
+  bool wants_more_spheres() const;
+  void check_id(int id) const;
+
+  Shape shape_;
+  SkeletonizerOptions options_;
+  MedialProjector projector_;
+  std::vector<Sphere> spheres_;
+  std::vector<bool> frozen_;
+  std::vector<int> labels_;
+  std::vector<double> vertex_energies_;
+  std::vector<std::vector<int>> members_;
+  std::vector<double> cluster_errors_;
+  double total_error_ = 0.0;
+  StageTimes times_;
+};
+
+}  // namespace vmas

@@ -1,0 +1,253 @@
+#include "vmas/skeletonizer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "vmas/connectivity.hpp"
+#include "vmas/error.hpp"
+#include "vmas/partition.hpp"
+
+namespace vmas {
+
+void SkeletonizerOptions::validate() const {
+  if (!(lambda >= 0.0 && lambda <= 1e6))
+    throw InvalidOption("lambda must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
+  if (target_spheres < 0)
+    throw InvalidOption("spheres must be at least 1 (got " + std::to_string(target_spheres) + ")");
+  if (!(error_threshold >= 0.0 && error_threshold < 1.0))
+    throw InvalidOption("error must be in (0, 1), relative to the bounding-box diagonal (got " +
+                        std::to_string(error_threshold) + ")");
+  if (target_spheres == 0 && error_threshold == 0.0)
+    throw InvalidOption("give a sphere count or an error threshold");
+  if (max_spheres < 1) throw InvalidOption("max spheres must be at least 1");
+  if (target_spheres > max_spheres)
+    throw InvalidOption("spheres must be at most " + std::to_string(max_spheres) + " (got " +
+                        std::to_string(target_spheres) + ")");
+  if (max_iterations < 1) throw InvalidOption("max iterations must be at least 1");
+  if (!(convergence >= 0.0 && convergence < 1.0))
+    throw InvalidOption("convergence must be in [0, 1) (got " + std::to_string(convergence) + ")");
+  if (split_interval < 1) throw InvalidOption("split interval must be at least 1");
+  if (settle_iterations < 0) throw InvalidOption("settle iterations must be at least 0");
+  if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
+  update.validate();
+  shrinking_ball.validate();
+  split.validate();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
+    : shape_(std::move(shape)), options_(options), projector_(shape_, options.shrinking_ball) {
+  options_.validate();
+  if (options_.target_spheres > shape_.size())
+    throw InvalidOption("spheres must be at most the number of points (" +
+                        std::to_string(shape_.size()) + ", got " +
+                        std::to_string(options_.target_spheres) + ")");
+  // One cluster holding every vertex: fit its sphere from the centroid, then project it.
+  std::vector<int> all(shape_.size());
+  Vec3 centroid = Vec3::Zero();
+  for (int v = 0; v < shape_.size(); ++v) {
+    all[v] = v;
+    centroid += shape_.points[v];
+  }
+  centroid /= shape_.size();
+  double mean_distance = 0.0;
+  for (const Vec3& p : shape_.points) mean_distance += (p - centroid).norm();
+  Sphere sphere{centroid, mean_distance / shape_.size()};
+  sphere = fit_sphere(shape_, all, sphere, options_.lambda, options_.update);
+  if (options_.project) sphere = projector_.project(sphere.center);
+  spheres_.push_back(sphere);
+  frozen_.push_back(false);
+  repartition();
+}
+
+void Skeletonizer::repartition() {
+  const auto start = Clock::now();
+  partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_);
+  members_.assign(spheres_.size(), {});
+  for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
+  times_.partition += seconds_since(start);
+  refresh_errors();
+}
+
+bool Skeletonizer::remove_tiny_clusters() {
+  std::vector<int> new_id(spheres_.size(), -1);
+  int kept = 0;
+  for (std::size_t m = 0; m < spheres_.size(); ++m)
+    if (frozen_[m] || static_cast<int>(members_[m].size()) >= options_.min_cluster_size)
+      new_id[m] = kept++;
+  if (kept == static_cast<int>(spheres_.size()) || kept == 0) return false;
+  std::vector<Sphere> spheres;
+  std::vector<bool> frozen;
+  for (std::size_t m = 0; m < spheres_.size(); ++m) {
+    if (new_id[m] < 0) continue;
+    spheres.push_back(spheres_[m]);
+    frozen.push_back(frozen_[m]);
+  }
+  spheres_ = std::move(spheres);
+  frozen_ = std::move(frozen);
+  for (int& label : labels_) label = new_id[label];
+  return true;
+}
+
+void Skeletonizer::refresh_errors() {
+  const int count = static_cast<int>(spheres_.size());
+  cluster_errors_.assign(count, 0.0);
+  total_error_ = 0.0;
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < count; ++c) {
+    double energy = 0.0;
+    double area = 0.0;
+    for (int v : members_[c]) {
+      vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
+      energy += vertex_energies_[v];
+      area += shape_.area[v];
+    }
+    cluster_errors_[c] = area > 0.0 ? energy / area : 0.0;
+  }
+  for (int c = 0; c < count; ++c) {
+    double area = 0.0;
+    for (int v : members_[c]) area += shape_.area[v];
+    total_error_ += cluster_errors_[c] * area;
+  }
+  total_error_ /= shape_.total_area;
+}
+
+double Skeletonizer::step() {
+  repartition();
+  // Clusters that shrank to a handful of vertices carry no shape information: drop them.
+  if (remove_tiny_clusters()) repartition();
+  const int count = static_cast<int>(spheres_.size());
+  auto start = Clock::now();
+  std::vector<Sphere> fitted = spheres_;
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < count; ++c)
+    if (!frozen_[c])
+      fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], options_.lambda, options_.update);
+  times_.update += seconds_since(start);
+  if (options_.project) {
+    start = Clock::now();
+#pragma omp parallel for schedule(dynamic)
+    for (int c = 0; c < count; ++c)
+      if (!frozen_[c]) fitted[c] = projector_.project(fitted[c].center);
+    times_.projection += seconds_since(start);
+  }
+  spheres_ = std::move(fitted);
+  refresh_errors();
+  return total_error_;
+}
+
+bool Skeletonizer::wants_more_spheres() const {
+  const int count = static_cast<int>(spheres_.size());
+  if (options_.target_spheres > 0) return count < options_.target_spheres;
+  if (count >= options_.max_spheres) return false;
+  const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
+  for (int c = 0; c < count; ++c)
+    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
+  return false;
+}
+
+int Skeletonizer::split() {
+  const auto start = Clock::now();
+  const int count = static_cast<int>(spheres_.size());
+  const int cap = options_.target_spheres > 0 ? options_.target_spheres : options_.max_spheres;
+  const int max_count = std::min({static_cast<int>(std::ceil(options_.split.max_fraction * count)),
+                                  options_.split.max_per_round, cap - count});
+  if (max_count <= 0) return 0;
+  const double threshold =
+      options_.target_spheres > 0 ? 0.0 : std::pow(options_.error_threshold * shape_.diagonal, 2);
+  std::vector<bool> eligible(count);
+  for (int c = 0; c < count; ++c)
+    eligible[c] = !frozen_[c] && static_cast<int>(members_[c].size()) >= 2;
+  const auto chosen = select_clusters_to_split(
+      cluster_errors_, cluster_adjacency(shape_, labels_, count), eligible, threshold, max_count);
+  for (int c : chosen) {
+    // Seed: the vertex of the cluster that its sphere fits worst.
+    int worst = members_[c].front();
+    for (int v : members_[c])
+      if (vertex_energies_[v] > vertex_energies_[worst]) worst = v;
+    spheres_.push_back(projector_.shrink(worst, -shape_.normals[worst]));
+    frozen_.push_back(false);
+  }
+  times_.split += seconds_since(start);
+  if (!chosen.empty()) repartition();
+  return static_cast<int>(chosen.size());
+}
+
+RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progress) {
+  RunSummary summary;
+  double previous_error = total_error_;
+  int last_split = 0;
+  for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
+    const double error = step();
+    summary.iterations = iteration;
+    if (progress) progress(Progress{iteration, static_cast<int>(spheres_.size()), error});
+    const bool converged =
+        std::abs(previous_error - error) <= options_.convergence * std::max(error, 1e-300);
+    previous_error = error;
+    if (wants_more_spheres()) {
+      if (converged || iteration - last_split >= options_.split_interval) {
+        if (split() > 0) {
+          last_split = iteration;
+          continue;
+        }
+        if (converged) {  // nothing left that may be split
+          summary.converged = true;
+          break;
+        }
+      }
+    } else if (converged && iteration - last_split >= options_.settle_iterations) {
+      summary.converged = true;
+      break;
+    }
+  }
+  summary.spheres = static_cast<int>(spheres_.size());
+  summary.error = total_error_;
+  return summary;
+}
+
+void Skeletonizer::check_id(int id) const {
+  if (id < 0 || id >= static_cast<int>(spheres_.size()))
+    throw InvalidOption("no sphere with id " + std::to_string(id) + " (there are " +
+                        std::to_string(spheres_.size()) + ")");
+}
+
+int Skeletonizer::add_sphere_at(int vertex) {
+  if (vertex < 0 || vertex >= shape_.size())
+    throw InvalidOption("no vertex with index " + std::to_string(vertex));
+  spheres_.push_back(projector_.shrink(vertex, -shape_.normals[vertex]));
+  frozen_.push_back(false);
+  repartition();
+  return static_cast<int>(spheres_.size()) - 1;
+}
+
+void Skeletonizer::remove_sphere(int id) {
+  check_id(id);
+  if (spheres_.size() == 1) throw InvalidOption("cannot remove the last sphere");
+  spheres_.erase(spheres_.begin() + id);
+  frozen_.erase(frozen_.begin() + id);
+  for (int& label : labels_) label = label == id ? -1 : (label > id ? label - 1 : label);
+  repartition();
+}
+
+void Skeletonizer::freeze(int id, bool frozen) {
+  check_id(id);
+  frozen_[id] = frozen;
+}
+
+MedialMesh Skeletonizer::medial_mesh() const {
+  const int count = static_cast<int>(spheres_.size());
+  return build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
+}
+
+}  // namespace vmas
