@@ -1,5 +1,6 @@
 #include "vmas/shape.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>

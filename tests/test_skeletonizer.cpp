@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/skeletonizer.hpp"
@@ -21,6 +23,103 @@ TEST(Skeletonizer, SphereGivesOneSphereAtItsCentre) {
   ASSERT_EQ(skeletonizer.spheres().size(), 1u);
   EXPECT_LT((skeletonizer.spheres()[0].center - center).norm(), 0.02);
   EXPECT_NEAR(skeletonizer.spheres()[0].radius, 2.0, 0.02);
+}
+
+TEST(Skeletonizer, CapsuleCentresLieOnTheAxisWithTheTubeRadius) {
+  const double radius = 0.25, length = 2.0;
+  Skeletonizer skeletonizer(build_shape(test::capsule(radius, length, 10, 32), {}), with_target(8));
+  skeletonizer.run();
+  ASSERT_EQ(skeletonizer.spheres().size(), 8u);
+  for (const Sphere& s : skeletonizer.spheres()) {
+    EXPECT_LT(s.center.head<2>().norm(), 0.02 * length) << s.center.transpose();
+    EXPECT_NEAR(s.radius, radius, 0.02);
+    EXPECT_GT(s.center.z(), -0.01);
+    EXPECT_LT(s.center.z(), length + 0.01);
+  }
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  EXPECT_GE(mesh.edges.size(), 7u);  // a chain at least
+}
+
+TEST(Skeletonizer, TorusGivesAClosedLoop) {
+  Skeletonizer skeletonizer(build_shape(test::torus(1.0, 0.25, 96, 24), {}), with_target(12));
+  skeletonizer.run();
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  ASSERT_EQ(mesh.spheres.size(), 12u);
+  for (const Sphere& s : mesh.spheres) {
+    EXPECT_NEAR(s.center.head<2>().norm(), 1.0, 0.03);
+    EXPECT_NEAR(s.center.z(), 0.0, 0.03);
+  }
+  // A loop: every sphere has two neighbours along the ring, and the graph has a cycle.
+  std::vector<int> degree(mesh.spheres.size(), 0);
+  for (const auto& e : mesh.edges) {
+    ++degree[e[0]];
+    ++degree[e[1]];
+  }
+  for (int d : degree) EXPECT_GE(d, 2);
+  EXPECT_GE(mesh.edges.size(), mesh.spheres.size());
+}
+
+TEST(Skeletonizer, SphereCountIsMetExactly) {
+  for (int target : {1, 7, 20}) {
+    Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(target));
+    skeletonizer.run();
+    EXPECT_EQ(skeletonizer.spheres().size(), static_cast<std::size_t>(target));
+  }
+}
+
+TEST(Skeletonizer, ErrorThresholdStopsSplitting) {
+  SkeletonizerOptions options;
+  options.error_threshold = 0.01;
+  Skeletonizer coarse(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), options);
+  coarse.run();
+  options.error_threshold = 0.002;
+  Skeletonizer fine(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), options);
+  fine.run();
+  EXPECT_LT(coarse.spheres().size(), fine.spheres().size());
+  const double limit = std::pow(0.002 * fine.shape().diagonal, 2);
+  for (double e : fine.cluster_errors()) EXPECT_LE(e, limit * 1.0001);
+}
+
+TEST(Skeletonizer, DynamicEditingBetweenSteps) {
+  Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(5));
+  skeletonizer.run();
+  ASSERT_EQ(skeletonizer.spheres().size(), 5u);
+
+  const int added = skeletonizer.add_sphere_at(0);
+  EXPECT_EQ(added, 5);
+  EXPECT_EQ(skeletonizer.spheres().size(), 6u);
+  for (int label : skeletonizer.labels()) EXPECT_TRUE(label >= 0 && label < 6);
+  skeletonizer.step();
+
+  const Sphere kept = skeletonizer.spheres()[1];
+  skeletonizer.freeze(1);
+  skeletonizer.step();
+  skeletonizer.step();
+  EXPECT_EQ(skeletonizer.spheres()[1].center, kept.center);
+  EXPECT_EQ(skeletonizer.spheres()[1].radius, kept.radius);
+
+  const std::size_t before = skeletonizer.spheres().size();
+  skeletonizer.remove_sphere(0);
+  EXPECT_EQ(skeletonizer.spheres().size(), before - 1);
+  EXPECT_TRUE(skeletonizer.frozen(0));  // the frozen sphere moved from id 1 to id 0
+  for (int label : skeletonizer.labels())
+    EXPECT_TRUE(label >= 0 && label < static_cast<int>(before - 1));
+  skeletonizer.step();
+
+  EXPECT_THROW(skeletonizer.remove_sphere(99), InvalidOption);
+  EXPECT_THROW(skeletonizer.add_sphere_at(-1), InvalidOption);
+}
+
+TEST(Skeletonizer, BadOptionsAreRejected) {
+  const Shape shape = build_shape(test::icosphere(Vec3::Zero(), 1.0, 2), {});
+  SkeletonizerOptions options;
+  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);  // no target at all
+  options.target_spheres = 1;
+  options.lambda = -1;
+  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
+  options.lambda = 0.2;
+  options.target_spheres = shape.size() + 1;
+  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
 }
 
 }  // namespace

@@ -1,0 +1,180 @@
+// Properties of the individual stages on shapes built in code.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "test_shapes.hpp"
+#include "vmas/connectivity.hpp"
+#include "vmas/error.hpp"
+#include "vmas/partition.hpp"
+#include "vmas/projection.hpp"
+#include "vmas/split.hpp"
+#include "vmas/sqem.hpp"
+#include "vmas/update.hpp"
+
+namespace vmas {
+namespace {
+
+TEST(Sqem, MatchesSquaredPlaneDistanceAndIsZeroOnTangentSphere) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Vec3 point(gauss(rng), gauss(rng), gauss(rng));
+    const Vec3 normal = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+    const Sphere sphere{Vec3(gauss(rng), gauss(rng), gauss(rng)), std::abs(gauss(rng))};
+    const double plane_distance = normal.dot(point - sphere.center) - sphere.radius;
+    EXPECT_NEAR(Sqem::plane(point, normal)(sphere), plane_distance * plane_distance, 1e-9);
+    // A sphere tangent to the plane from the inside has zero error.
+    const Sphere tangent{point - 0.7 * normal, 0.7};
+    EXPECT_NEAR(Sqem::plane(point, normal)(tangent), 0.0, 1e-12);
+  }
+}
+
+TEST(Sqem, SumOfSphereVertexQuadricsIsZeroOnTheExactSphere) {
+  const Vec3 center(1, 2, 3);
+  const Shape shape = build_shape(test::icosphere(center, 0.5, 3), {});
+  Sqem total;
+  for (const auto& q : shape.quadric) total += q;
+  // Vertex normals of the mesh are face normals, so the fit is exact only up to faceting.
+  EXPECT_LT(total(Sphere{center, 0.5}) / shape.total_area, 1e-4 * 0.25);
+  EXPECT_GT(total(Sphere{center, 0.45}) / shape.total_area, 10 * total(Sphere{center, 0.5}) / shape.total_area);
+}
+
+TEST(Shape, MeshAreasSumToSurfaceAreaAndNormalsPointOutward) {
+  SurfaceInput input = test::icosphere(Vec3::Zero(), 1.0, 4);
+  for (auto& f : input.faces) std::swap(f[1], f[2]);  // inward-oriented input gets flipped
+  const Shape shape = build_shape(input, {});
+  EXPECT_NEAR(shape.total_area, 4 * M_PI, 0.05);
+  for (int v = 0; v < shape.size(); ++v) EXPECT_GT(shape.normals[v].dot(shape.points[v]), 0.99);
+  // The neighbour graph is symmetric.
+  for (int v = 0; v < shape.size(); ++v)
+    for (int i = shape.neighbour_offsets[v]; i < shape.neighbour_offsets[v + 1]; ++i) {
+      const int w = shape.neighbours[i];
+      const auto begin = shape.neighbours.begin() + shape.neighbour_offsets[w];
+      const auto end = shape.neighbours.begin() + shape.neighbour_offsets[w + 1];
+      EXPECT_NE(std::find(begin, end, v), end);
+    }
+}
+
+TEST(Shape, CloudWithoutNormalsIsRejected) {
+  SurfaceInput cloud = test::icosphere(Vec3::Zero(), 1.0, 2);
+  cloud.faces.clear();
+  EXPECT_THROW(build_shape(cloud, {}), InvalidInput);
+  ShapeOptions bad;
+  bad.k = 1;
+  EXPECT_THROW(bad.validate(), InvalidOption);
+}
+
+TEST(Projection, ShrinkingBallIsEmptyAndTouchesItsPoint) {
+  const Shape shape = build_shape(test::torus(1.0, 0.3, 64, 24), {});
+  ShrinkingBallOptions exact;
+  exact.denoise_angle_deg = 0.0;  // denoising may stop early, leaving a slightly overlapping ball
+  for (const ShrinkingBallOptions& options : {exact, ShrinkingBallOptions{}}) {
+    const MedialProjector projector(shape, options);
+    const double tolerance = options.denoise_angle_deg > 0.0 ? 0.002 : 1e-5 * shape.diagonal;
+    for (int v = 0; v < shape.size(); v += 37) {
+      const Sphere ball = projector.shrink(v, -shape.normals[v]);
+      EXPECT_NEAR((shape.points[v] - ball.center).norm(), ball.radius, 1e-9);
+      for (const Vec3& p : shape.points)
+        EXPECT_GE((p - ball.center).norm(), ball.radius - tolerance);
+      // On a torus the medial axis is the centre circle: radius ≈ tube radius.
+      EXPECT_NEAR(ball.radius, 0.3, 0.01);
+    }
+  }
+}
+
+TEST(Projection, ProjectLandsOnTheMedialAxis) {
+  const Shape shape = build_shape(test::icosphere(Vec3::Zero(), 1.0, 4), {});
+  const MedialProjector projector(shape, {});
+  // A fitted centre near the medial axis (here: the centre) is pulled onto it.
+  const Sphere projected = projector.project(Vec3(0.1, 0.05, -0.05));
+  EXPECT_LT(projected.center.norm(), 0.05);
+  EXPECT_NEAR(projected.radius, 1.0, 0.05);
+}
+
+TEST(Partition, LabelsEveryVertexWithItsBruteForceMinimum) {
+  const Shape shape = build_shape(test::capsule(0.3, 2.0, 8, 24), {});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<Sphere> spheres;
+  for (int i = 0; i < 12; ++i) spheres.push_back({Vec3(0, 0, 2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
+  std::vector<int> labels;
+  std::vector<double> energies;
+  partition(shape, spheres, 0.2, labels, energies);
+  ASSERT_EQ(labels.size(), static_cast<std::size_t>(shape.size()));
+  for (int v = 0; v < shape.size(); ++v) {
+    int best = 0;
+    for (int m = 1; m < 12; ++m)
+      if (vertex_energy(shape, v, spheres[m], 0.2) < vertex_energy(shape, v, spheres[best], 0.2)) best = m;
+    EXPECT_EQ(labels[v], best);
+    EXPECT_DOUBLE_EQ(energies[v], vertex_energy(shape, v, spheres[best], 0.2));
+  }
+}
+
+TEST(Update, EnergyNeverIncreasesAndFitsTheSphere) {
+  const Vec3 center(0.1, 0.2, 0.3);
+  const Shape shape = build_shape(test::icosphere(center, 1.0, 3), {});
+  std::vector<int> all(shape.size());
+  for (int v = 0; v < shape.size(); ++v) all[v] = v;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> gauss(0.0, 0.3);
+  for (int trial = 0; trial < 20; ++trial) {
+    Sphere sphere{center + Vec3(gauss(rng), gauss(rng), gauss(rng)), 0.5 + std::abs(gauss(rng))};
+    double energy = cluster_energy(shape, all, sphere, 0.2);
+    for (int round = 0; round < 5; ++round) {
+      UpdateOptions one_step;
+      one_step.max_iterations = 1;
+      sphere = fit_sphere(shape, all, sphere, 0.2, one_step);
+      const double next = cluster_energy(shape, all, sphere, 0.2);
+      EXPECT_LE(next, energy * (1 + 1e-12));
+      EXPECT_GE(sphere.radius, 0.0);
+      energy = next;
+    }
+    sphere = fit_sphere(shape, all, sphere, 0.2, {});
+    EXPECT_LT((sphere.center - center).norm(), 0.01);
+    EXPECT_NEAR(sphere.radius, 1.0, 0.01);
+  }
+}
+
+TEST(Split, ChoosesWorstNonAdjacentClustersAboveThreshold) {
+  const std::vector<double> errors = {5, 9, 8, 1, 7};
+  // 1–2 adjacent, 2–4 adjacent.
+  const std::vector<std::vector<int>> adjacency = {{}, {2}, {1, 4}, {}, {2}};
+  const std::vector<bool> eligible(5, true);
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 10), (std::vector<int>{1, 4, 0, 3}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 4.0, 10), (std::vector<int>{1, 4, 0}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 2), (std::vector<int>{1, 4}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, {true, false, true, true, true}, 0.0, 10),
+            (std::vector<int>{2, 0, 3}));
+}
+
+TEST(Connectivity, SymmetricValidEdgesAndCliqueFaces) {
+  const Shape shape = build_shape(test::icosphere(Vec3::Zero(), 1.0, 3), {});
+  std::vector<int> labels(shape.size());
+  // Octants: 8 clusters; neighbouring octants share a face of the octant cube.
+  for (int v = 0; v < shape.size(); ++v) {
+    const Vec3& p = shape.points[v];
+    labels[v] = (p.x() > 1e-9) + 2 * (p.y() > 1e-9) + 4 * (p.z() > 1e-9);
+  }
+  const auto adjacency = cluster_adjacency(shape, labels, 8);
+  for (int a = 0; a < 8; ++a)
+    for (int b : adjacency[a]) {
+      EXPECT_NE(a, b);
+      EXPECT_TRUE(std::binary_search(adjacency[b].begin(), adjacency[b].end(), a));
+    }
+  const MedialMesh mesh = build_medial_mesh(std::vector<Sphere>(8), adjacency);
+  std::set<std::pair<int, int>> edges;
+  for (const auto& e : mesh.edges) {
+    EXPECT_LT(e[0], e[1]);
+    EXPECT_TRUE(edges.insert({e[0], e[1]}).second);
+  }
+  for (const auto& f : mesh.faces) {
+    EXPECT_TRUE(edges.count({f[0], f[1]}) && edges.count({f[1], f[2]}) && edges.count({f[0], f[2]}));
+  }
+  // Every octant touches at least its three face-neighbours.
+  for (int a = 0; a < 8; ++a) EXPECT_GE(adjacency[a].size(), 3u);
+}
+
+}  // namespace
+}  // namespace vmas
