@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
@@ -37,7 +38,8 @@ Neighbourhoods k_nearest_all(const std::vector<Vec3>& points, int k) {
 #pragma omp for schedule(static)
     for (int i = 0; i < count; ++i) {
       tree.k_nearest(points[i], result.width, indices, squared_distances);
-      std::copy(indices.begin(), indices.end(), result.indices.begin() + std::size_t(i) * result.width);
+      std::copy(indices.begin(), indices.end(),
+                result.indices.begin() + std::size_t(i) * result.width);
     }
   }
   return result;
@@ -129,7 +131,8 @@ std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,
       edges.push_back({0.0, std::min(i, j), std::max(i, j)});
     }
   }
-  const double mean_spacing = std::max(spacing_sum / std::max<std::size_t>(edges.size(), 1), 1e-300);
+  const double mean_spacing =
+      std::max(spacing_sum / std::max<std::size_t>(edges.size(), 1), 1e-300);
   for (Edge& e : edges)
     e.weight = edge_weight(points[e.a], points[e.b], normals[e.a], normals[e.b], mean_spacing);
   // A total order keeps the forest independent of the sort implementation; an edge found from

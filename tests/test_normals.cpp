@@ -92,7 +92,8 @@ int count_if_pairs(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
 }
 
 int count_outward(const std::vector<Vec3>& estimated, const std::vector<Vec3>& truth) {
-  return count_if_pairs(estimated, truth, [](const Vec3& n, const Vec3& t) { return n.dot(t) > 0; });
+  return count_if_pairs(estimated, truth,
+                        [](const Vec3& n, const Vec3& t) { return n.dot(t) > 0; });
 }
 
 int count_within_degrees(const std::vector<Vec3>& estimated, const std::vector<Vec3>& truth,
@@ -196,6 +197,7 @@ TEST(NormalsEstimate, SameResultForAnyThreadCount) {
 
 TEST(NormalsEstimate, DegenerateInputGivesFiniteNormals) {
   std::vector<Vec3> line;
+  line.reserve(50);
   for (int i = 0; i < 50; ++i) line.emplace_back(0.1 * i, 0.2 * i, -0.05 * i);
   expect_unit_and_finite(estimate_normals(line, {}));
 
@@ -209,8 +211,7 @@ TEST(NormalsEstimate, RejectsBadInput) {
   options.k = 2;
   EXPECT_THROW(options.validate(), InvalidOption);
   options.k = 201;
-  EXPECT_THROW(estimate_normals(sphere(Vec3::Zero(), 1.0, 500, 8).points, options),
-               InvalidOption);
+  EXPECT_THROW(estimate_normals(sphere(Vec3::Zero(), 1.0, 500, 8).points, options), InvalidOption);
   try {
     options.k = 1;
     options.validate();
