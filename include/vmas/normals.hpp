@@ -13,10 +13,15 @@ struct NormalOptions {
   void validate() const;  // throws InvalidOption
 };
 
-// Unit normals, one per point, oriented consistently and outward.
+// Unit normals, one per point, from a plane fit to each point and its k nearest neighbours, then
+// oriented as by orient_normals. Throws InvalidOption for a bad k and InvalidInput for fewer than
+// k + 1 points. Deterministic whatever the thread count; never returns NaN (a degenerate
+// neighbourhood gets a finite normal whose line may be arbitrary).
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options);
 
-// Flips given normals so that neighbours agree and the whole set points outward.
+// Flips given normals so that neighbours agree and each connected component of the k-NN graph
+// points outward. Also normalises them and replaces NaN or zero ones by finite ones. Throws
+// InvalidOption for a bad k and InvalidInput when the two sizes differ.
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
 
 }  // namespace vmas

@@ -1,0 +1,260 @@
+#include "vmas/normals.hpp"
+
+#include <pcl/features/normal_3d.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <tuple>
+
+#include "vmas/error.hpp"
+#include "vmas/kdtree.hpp"
+
+namespace vmas {
+
+namespace {
+
+// The k nearest neighbours of every point, the point itself first (k + 1 per row, row-major).
+struct Neighbourhoods {
+  int width = 0;
+  std::vector<int> indices;
+
+  const int* row(int i) const { return indices.data() + static_cast<std::size_t>(i) * width; }
+};
+
+Neighbourhoods k_nearest_all(const std::vector<Vec3>& points, int k) {
+  const KdTree tree(points);
+  const int count = static_cast<int>(points.size());
+  Neighbourhoods result;
+  result.width = std::min(k + 1, count);
+  result.indices.resize(static_cast<std::size_t>(count) * result.width);
+#pragma omp parallel
+  {
+    std::vector<int> indices;
+    std::vector<double> squared_distances;
+#pragma omp for schedule(static)
+    for (int i = 0; i < count; ++i) {
+      tree.k_nearest(points[i], result.width, indices, squared_distances);
+      std::copy(indices.begin(), indices.end(),
+                result.indices.begin() + std::size_t(i) * result.width);
+    }
+  }
+  return result;
+}
+
+Vec3 centroid_of(const std::vector<Vec3>& points) {
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& p : points) sum += p;
+  return sum / static_cast<double>(points.size());
+}
+
+// Normalises every normal; a missing one (NaN from a degenerate neighbourhood, or zero length)
+// becomes the direction away from the centroid so that it is finite and roughly outward before
+// the orientation pass fixes its sign.
+void sanitize(const std::vector<Vec3>& points, std::vector<Vec3>& normals) {
+  const Vec3 centroid = centroid_of(points);
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const double length = normals[i].norm();
+    if (std::isfinite(length) && length > 1e-12) {
+      normals[i] /= length;
+      continue;
+    }
+    const Vec3 away = points[i] - centroid;
+    normals[i] = away.norm() > 1e-12 ? away.normalized() : Vec3::UnitZ();
+  }
+}
+
+// Orientation agreement of the normals at two neighbouring points, in [-1, 1]: n_a compared with
+// n_b mirrored across the bisecting plane of the edge (König & Gumhold 2009). On a smooth or
+// sharp-edged surface the mirror maps one normal onto the other, so this is close to +1 (agree)
+// or -1 (flip) even where the plain dot product n_a·n_b is near zero, such as box edges.
+double agreement(const Vec3& n_a, const Vec3& n_b, const Vec3& edge_direction) {
+  return n_a.dot(n_b) - 2.0 * n_a.dot(edge_direction) * n_b.dot(edge_direction);
+}
+
+struct Edge {
+  double weight;
+  int a, b;  // a < b
+};
+
+// Weight of the MST edge: low when the propagation decision is clear-cut, high when it is
+// ambiguous. The term in |n·e| keeps the tree off edges that cross between two close sheets
+// (thin parts, doubled layers of misregistered scans), where the orientation cannot be read from
+// the normals; the distance term breaks ties in favour of short edges.
+double edge_weight(const Vec3& p_a, const Vec3& p_b, const Vec3& n_a, const Vec3& n_b,
+                   double mean_spacing) {
+  const Vec3 offset = p_b - p_a;
+  const double length = offset.norm();
+  const Vec3 direction = length > 0.0 ? Vec3(offset / length) : Vec3::Zero();
+  const double cross_sheet = 0.5 * (std::abs(n_a.dot(direction)) + std::abs(n_b.dot(direction)));
+  return 1.0 - std::abs(agreement(n_a, n_b, direction)) + cross_sheet +
+         1e-3 * length / mean_spacing;
+}
+
+class DisjointSets {
+ public:
+  explicit DisjointSets(int count) : parent_(count) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  int find(int i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  bool unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return false;
+    parent_[std::max(a, b)] = std::min(a, b);
+    return true;
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// Minimum spanning forest (Kruskal) of the symmetric k-NN graph, as adjacency lists.
+std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,
+                                              const std::vector<Vec3>& normals,
+                                              const Neighbourhoods& neighbours) {
+  const int count = static_cast<int>(points.size());
+  double spacing_sum = 0.0;
+  std::vector<Edge> edges;
+  edges.reserve(static_cast<std::size_t>(count) * neighbours.width);
+  for (int i = 0; i < count; ++i) {
+    for (int c = 0; c < neighbours.width; ++c) {
+      const int j = neighbours.row(i)[c];
+      if (j == i) continue;
+      spacing_sum += (points[j] - points[i]).norm();
+      edges.push_back({0.0, std::min(i, j), std::max(i, j)});
+    }
+  }
+  const double mean_spacing =
+      std::max(spacing_sum / std::max<std::size_t>(edges.size(), 1), 1e-300);
+  for (Edge& e : edges)
+    e.weight = edge_weight(points[e.a], points[e.b], normals[e.a], normals[e.b], mean_spacing);
+  // A total order keeps the forest independent of the sort implementation; an edge found from
+  // both ends appears twice and the union-find drops the copy.
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return std::tie(x.weight, x.a, x.b) < std::tie(y.weight, y.a, y.b);
+  });
+  DisjointSets sets(count);
+  std::vector<std::vector<int>> forest(count);
+  for (const Edge& e : edges) {
+    if (!sets.unite(e.a, e.b)) continue;
+    forest[e.a].push_back(e.b);
+    forest[e.b].push_back(e.a);
+  }
+  return forest;
+}
+
+// Directions spread evenly over the sphere (Fibonacci lattice).
+std::vector<Vec3> sphere_directions(int count) {
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  std::vector<Vec3> directions(count);
+  for (int i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / count;
+    const double r = std::sqrt(1.0 - z * z);
+    directions[i] = Vec3(r * std::cos(golden_angle * i), r * std::sin(golden_angle * i), z);
+  }
+  return directions;
+}
+
+// True when a consistently oriented component points inward. The point of a closed surface that
+// lies farthest along a direction d is on its convex hull, where the outward normal has n·d > 0,
+// whatever the shape's concavities; the vote over many directions tolerates a few noisy extremes.
+bool points_inward(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                   const std::vector<int>& component, const std::vector<Vec3>& directions) {
+  double vote = 0.0;
+  for (const Vec3& d : directions) {
+    int extreme = component.front();
+    for (int i : component)
+      if (points[i].dot(d) > points[extreme].dot(d)) extreme = i;
+    vote += normals[extreme].dot(d);
+  }
+  return vote < 0.0;
+}
+
+void orient(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
+            const Neighbourhoods& neighbours) {
+  sanitize(points, normals);
+  const int count = static_cast<int>(points.size());
+  const auto forest = spanning_forest(points, normals, neighbours);
+  const auto directions = sphere_directions(256);
+  std::vector<char> visited(count, 0);
+  std::vector<int> component;
+  for (int root = 0; root < count; ++root) {
+    if (visited[root]) continue;
+    // Breadth-first over the tree: each normal takes its sign from its parent's.
+    component.assign(1, root);
+    visited[root] = 1;
+    for (std::size_t head = 0; head < component.size(); ++head) {
+      const int i = component[head];
+      for (int j : forest[i]) {
+        if (visited[j]) continue;
+        visited[j] = 1;
+        const Vec3 offset = points[j] - points[i];
+        const double length = offset.norm();
+        const Vec3 direction = length > 0.0 ? Vec3(offset / length) : Vec3::Zero();
+        if (agreement(normals[i], normals[j], direction) < 0.0) normals[j] = -normals[j];
+        component.push_back(j);
+      }
+    }
+    if (points_inward(points, normals, component, directions))
+      for (int i : component) normals[i] = -normals[i];
+  }
+}
+
+}  // namespace
+
+void NormalOptions::validate() const {
+  if (k < 3 || k > 200)
+    throw InvalidOption("normal-k must be between 3 and 200 (got " + std::to_string(k) + ")");
+}
+
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options) {
+  options.validate();
+  const int count = static_cast<int>(points.size());
+  if (count < options.k + 1)
+    throw InvalidInput(std::to_string(count) + " points are too few to estimate normals with k=" +
+                       std::to_string(options.k));
+  const Neighbourhoods neighbours = k_nearest_all(points, options.k);
+
+  // PCL works in float: centre the cloud first so that large coordinates keep their precision.
+  const Vec3 centroid = centroid_of(points);
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  cloud.resize(count);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3f p = (points[i] - centroid).cast<float>();
+    cloud[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
+  }
+
+  std::vector<Vec3> normals(count);
+#pragma omp parallel
+  {
+    pcl::Indices indices(neighbours.width);
+    Eigen::Vector4f plane;
+    float curvature = 0.0f;
+#pragma omp for schedule(static)
+    for (int i = 0; i < count; ++i) {
+      std::copy(neighbours.row(i), neighbours.row(i) + neighbours.width, indices.begin());
+      pcl::computePointNormal(cloud, indices, plane, curvature);
+      normals[i] = plane.head<3>().cast<double>();  // NaN if degenerate; orient() replaces it
+    }
+  }
+  orient(points, normals, neighbours);
+  return normals;
+}
+
+void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
+  NormalOptions{k}.validate();
+  if (normals.size() != points.size())
+    throw InvalidInput("cannot orient " + std::to_string(normals.size()) + " normals for " +
+                       std::to_string(points.size()) + " points");
+  if (points.empty()) return;
+  orient(points, normals, k_nearest_all(points, k));
+}
+
+}  // namespace vmas

@@ -1,0 +1,315 @@
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include "vmas/error.hpp"
+#include "vmas/kdtree.hpp"
+#include "vmas/normals.hpp"
+
+namespace vmas {
+namespace {
+
+// Points and exact outward normals of a shape built in code.
+struct Sample {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;
+};
+
+Vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<double> gauss;
+  return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+}
+
+Sample sphere(const Vec3& center, double radius, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 u = random_unit(rng);
+    s.points.push_back(center + radius * u);
+    s.normals.push_back(u);
+  }
+  return s;
+}
+
+// Axis-aligned box [0, size], faces sampled in proportion to their area.
+Sample box(const Vec3& size, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double areas[3] = {size.y() * size.z(), size.x() * size.z(), size.x() * size.y()};
+  std::discrete_distribution<int> pick_axis(areas, areas + 3);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const int axis = pick_axis(rng);
+    const bool high = uniform(rng) < 0.5;
+    Vec3 p(uniform(rng) * size.x(), uniform(rng) * size.y(), uniform(rng) * size.z());
+    p[axis] = high ? size[axis] : 0.0;
+    Vec3 n = Vec3::Zero();
+    n[axis] = high ? 1.0 : -1.0;
+    s.points.push_back(p);
+    s.normals.push_back(n);
+  }
+  return s;
+}
+
+// Torus around the z axis, sampled uniformly by area (rejection on the tube angle).
+Sample torus(double major, double minor, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), uniform(0.0, 1.0);
+  Sample s;
+  while (static_cast<int>(s.points.size()) < count) {
+    const double u = angle(rng), v = angle(rng);
+    if (uniform(rng) * (major + minor) > major + minor * std::cos(v)) continue;
+    const Vec3 radial(std::cos(u), std::sin(u), 0.0);
+    const Vec3 n = std::cos(v) * radial + std::sin(v) * Vec3::UnitZ();
+    s.points.push_back(major * radial + minor * n);
+    s.normals.push_back(n);
+  }
+  return s;
+}
+
+Sample ellipsoid(const Vec3& radii, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 p = random_unit(rng).cwiseProduct(radii);
+    s.points.push_back(p);
+    s.normals.push_back(p.cwiseQuotient(radii.cwiseProduct(radii)).normalized());
+  }
+  return s;
+}
+
+int count_if_pairs(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
+                   const std::function<bool(const Vec3&, const Vec3&)>& predicate) {
+  int n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) n += predicate(a[i], b[i]) ? 1 : 0;
+  return n;
+}
+
+int count_outward(const std::vector<Vec3>& estimated, const std::vector<Vec3>& truth) {
+  return count_if_pairs(estimated, truth,
+                        [](const Vec3& n, const Vec3& t) { return n.dot(t) > 0; });
+}
+
+int count_within_degrees(const std::vector<Vec3>& estimated, const std::vector<Vec3>& truth,
+                         double degrees) {
+  const double cosine = std::cos(degrees * M_PI / 180.0);
+  return count_if_pairs(estimated, truth,
+                        [cosine](const Vec3& n, const Vec3& t) { return n.dot(t) > cosine; });
+}
+
+void expect_unit_and_finite(const std::vector<Vec3>& normals) {
+  for (const Vec3& n : normals) {
+    ASSERT_TRUE(n.allFinite());
+    EXPECT_NEAR(n.norm(), 1.0, 1e-6);
+  }
+}
+
+TEST(NormalsEstimate, SphereIsRadialAndOutward) {
+  const Sample s = sphere(Vec3(2.0, -1.0, 0.5), 1.5, 3000, 1);
+  const auto normals = estimate_normals(s.points, {});
+  ASSERT_EQ(normals.size(), s.points.size());
+  expect_unit_and_finite(normals);
+  EXPECT_EQ(count_outward(normals, s.normals), 3000);
+  EXPECT_EQ(count_within_degrees(normals, s.normals, 5.0), 3000);
+}
+
+TEST(NormalsEstimate, BoxFacesPointOutward) {
+  const Vec3 size(2.0, 1.0, 0.5);
+  const Sample s = box(size, 6000, 2);
+  const auto normals = estimate_normals(s.points, {});
+  expect_unit_and_finite(normals);
+  const Vec3 center = 0.5 * size;
+  for (std::size_t i = 0; i < normals.size(); ++i)
+    ASSERT_GT(normals[i].dot(s.points[i] - center), 0.0) << "point " << i;
+  // Away from the edges the plane fit sees one face only.
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    double to_edge = 1.0;
+    for (int axis = 0; axis < 3; ++axis)
+      if (s.normals[i][axis] == 0.0)
+        to_edge = std::min({to_edge, s.points[i][axis], size[axis] - s.points[i][axis]});
+    if (to_edge > 0.1) EXPECT_GT(normals[i].dot(s.normals[i]), std::cos(M_PI / 36)) << i;
+  }
+}
+
+TEST(NormalsEstimate, TorusPointsAwayFromTheTubeAxis) {
+  const Sample s = torus(1.0, 0.25, 6000, 3);
+  const auto normals = estimate_normals(s.points, {});
+  expect_unit_and_finite(normals);
+  EXPECT_EQ(count_outward(normals, s.normals), 6000);
+  EXPECT_GT(count_within_degrees(normals, s.normals, 10.0), 0.98 * 6000);
+}
+
+TEST(NormalsEstimate, ThinEllipsoidKeepsBothSidesOutward) {
+  // Top and bottom are 0.16 apart at the centre and meet at a sharp rim.
+  const Sample s = ellipsoid(Vec3(1.0, 0.6, 0.08), 5000, 4);
+  const auto normals = estimate_normals(s.points, {});
+  expect_unit_and_finite(normals);
+  // The rim's radius of curvature (0.0064) is far below the sample spacing, so a few plane fits
+  // there are off; every normal whose line is right must also have the right sign.
+  int right_line = 0;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    if (std::abs(normals[i].dot(s.normals[i])) < 0.5) continue;
+    ++right_line;
+    EXPECT_GT(normals[i].dot(s.normals[i]), 0.0) << "point " << i;
+  }
+  EXPECT_GT(right_line, 0.98 * 5000);
+}
+
+TEST(NormalsEstimate, ThinPlateKeepsBothSidesOutward) {
+  // 0.05 thick, about twice the sample spacing: k-NN neighbourhoods straddle the two faces.
+  const Vec3 size(2.0, 1.0, 0.05);
+  const Sample s = box(size, 8000, 21);
+  const auto normals = estimate_normals(s.points, {});
+  int right_line = 0;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    if (std::abs(normals[i].dot(s.normals[i])) < 0.7) continue;  // the sides are too narrow to fit
+    ++right_line;
+    EXPECT_GT(normals[i].dot(s.normals[i]), 0.0) << "point " << i;
+  }
+  EXPECT_GT(right_line, 0.85 * 8000);
+}
+
+TEST(NormalsEstimate, TwoComponentsAreBothOutward) {
+  Sample s = sphere(Vec3::Zero(), 1.0, 2000, 5);
+  const Sample other = sphere(Vec3(5.0, 0.0, 0.0), 0.5, 1000, 6);
+  s.points.insert(s.points.end(), other.points.begin(), other.points.end());
+  s.normals.insert(s.normals.end(), other.normals.begin(), other.normals.end());
+  const auto normals = estimate_normals(s.points, {});
+  EXPECT_EQ(count_outward(normals, s.normals), 3000);
+}
+
+TEST(NormalsEstimate, SameResultForAnyThreadCount) {
+  const Sample s = torus(1.0, 0.3, 4000, 7);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const auto serial = estimate_normals(s.points, {});
+  omp_set_num_threads(std::max(threads, 3));
+  const auto parallel = estimate_normals(s.points, {});
+  omp_set_num_threads(threads);
+  EXPECT_EQ(serial, parallel);
+}
+
+TEST(NormalsEstimate, DegenerateInputGivesFiniteNormals) {
+  std::vector<Vec3> line;
+  line.reserve(50);
+  for (int i = 0; i < 50; ++i) line.emplace_back(0.1 * i, 0.2 * i, -0.05 * i);
+  expect_unit_and_finite(estimate_normals(line, {}));
+
+  const std::vector<Vec3> same_point(30, Vec3(1.0, 2.0, 3.0));
+  expect_unit_and_finite(estimate_normals(same_point, {}));
+}
+
+TEST(NormalsEstimate, RejectsBadInput) {
+  EXPECT_THROW(estimate_normals(std::vector<Vec3>(16, Vec3::Zero()), {}), InvalidInput);
+  NormalOptions options;
+  options.k = 2;
+  EXPECT_THROW(options.validate(), InvalidOption);
+  options.k = 201;
+  EXPECT_THROW(estimate_normals(sphere(Vec3::Zero(), 1.0, 500, 8).points, options), InvalidOption);
+  try {
+    options.k = 1;
+    options.validate();
+    FAIL() << "k=1 accepted";
+  } catch (const InvalidOption& e) {
+    EXPECT_NE(std::string(e.what()).find("normal-k"), std::string::npos);
+  }
+  std::vector<Vec3> normals(3, Vec3::UnitX());
+  EXPECT_THROW(orient_normals(std::vector<Vec3>(4, Vec3::Zero()), normals, 16), InvalidInput);
+}
+
+TEST(NormalsOrient, RandomFlipsComeBackOutward) {
+  for (const Sample& s : {sphere(Vec3(0.3, 0.0, 0.0), 1.0, 2000, 9), torus(1.0, 0.2, 5000, 10),
+                          box(Vec3(2.0, 1.0, 0.03), 8000, 11)}) {
+    std::mt19937 rng(12);
+    std::bernoulli_distribution flip(0.5);
+    std::vector<Vec3> normals = s.normals;
+    for (Vec3& n : normals)
+      if (flip(rng)) n = -n;
+    orient_normals(s.points, normals, 10);
+    EXPECT_EQ(count_within_degrees(normals, s.normals, 1e-3), static_cast<int>(normals.size()));
+  }
+}
+
+TEST(NormalsOrient, MissingNormalsBecomeFinite) {
+  const Sample s = sphere(Vec3::Zero(), 1.0, 1000, 13);
+  std::vector<Vec3> normals = s.normals;
+  normals[0] = Vec3::Constant(std::nan(""));
+  normals[1] = Vec3::Zero();
+  orient_normals(s.points, normals, 10);
+  expect_unit_and_finite(normals);
+  EXPECT_EQ(count_outward(normals, s.normals), 1000);
+}
+
+// Reads "x y z [nx ny nz]" lines; empty if the file is missing.
+Sample read_xyz(const std::string& path) {
+  Sample s;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    Vec3 p, n;
+    if (!(fields >> p.x() >> p.y() >> p.z())) continue;
+    s.points.push_back(p);
+    if (fields >> n.x() >> n.y() >> n.z()) s.normals.push_back(n);
+  }
+  return s;
+}
+
+TEST(NormalsRealData, RabbitAgreesWithTrustedNormals) {
+  const Sample s = read_xyz(std::string(VMAS_SHARED_DATA) + "/scans/tum_rabbit_normals.xyz");
+  if (s.points.empty()) GTEST_SKIP() << "tum_rabbit_normals.xyz not found in " VMAS_SHARED_DATA;
+  ASSERT_EQ(s.normals.size(), s.points.size());
+  const auto normals = estimate_normals(s.points, {});
+  const double agreement =
+      static_cast<double>(count_outward(normals, s.normals)) / static_cast<double>(normals.size());
+  std::cout << "rabbit: " << normals.size() << " points, " << 100.0 * agreement
+            << " % agree in sign with the given normals\n";
+  EXPECT_GE(agreement, 0.95);
+}
+
+TEST(NormalsRealData, MergedBunnyIsFastConsistentAndOutward) {
+  const Sample s = read_xyz(std::string(VMAS_SHARED_DATA) + "/scans/bunny_merged_45k.xyz");
+  if (s.points.empty()) GTEST_SKIP() << "bunny_merged_45k.xyz not found in " VMAS_SHARED_DATA;
+  const auto start = std::chrono::steady_clock::now();
+  const auto normals = estimate_normals(s.points, {});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  expect_unit_and_finite(normals);
+
+  // Outward: the bunny is blob-like, so most normals point away from the centroid.
+  Vec3 centroid = Vec3::Zero();
+  for (const Vec3& p : s.points) centroid += p;
+  centroid /= static_cast<double>(s.points.size());
+  int away = 0;
+  for (std::size_t i = 0; i < normals.size(); ++i)
+    away += normals[i].dot(s.points[i] - centroid) > 0.0 ? 1 : 0;
+  // Consistent: close neighbours on a smooth scan agree in sign.
+  const KdTree tree(s.points);
+  std::vector<int> indices;
+  std::vector<double> squared_distances;
+  int pairs = 0, agreeing = 0;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    tree.k_nearest(s.points[i], 7, indices, squared_distances);
+    for (int j : indices) {
+      ++pairs;
+      agreeing += normals[i].dot(normals[j]) > 0.0 ? 1 : 0;
+    }
+  }
+  const double away_fraction = static_cast<double>(away) / normals.size();
+  const double agreeing_fraction = static_cast<double>(agreeing) / pairs;
+  std::cout << "bunny: " << normals.size() << " points in " << seconds << " s, "
+            << 100.0 * away_fraction << " % point away from the centroid, "
+            << 100.0 * agreeing_fraction << " % of 6-NN pairs agree\n";
+  EXPECT_GT(away_fraction, 0.8);
+  EXPECT_GT(agreeing_fraction, 0.97);
+  EXPECT_LT(seconds, 5.0);
+}
+
+}  // namespace
+}  // namespace vmas
