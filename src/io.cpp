@@ -1,10 +1,9 @@
 #include "vmas/io.hpp"
 
 #include <fcntl.h>
-#include <unistd.h>
-
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -126,12 +125,14 @@ class LineTokenizer {
   template <typename T>
   T parse(std::string_view token) const {
     std::string_view digits = token;
-    if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);  // from_chars rejects '+'
+    if (digits.size() > 1 && digits.front() == '+')
+      digits.remove_prefix(1);  // from_chars rejects '+'
     T value{};
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
     if (error == std::errc::result_out_of_range) fail("number out of range " + quote(token));
     if (error != std::errc() || end != digits.data() + digits.size())
-      fail(std::string(std::is_integral_v<T> ? "expected an integer, found " : "non-numeric token ") +
+      fail(std::string(std::is_integral_v<T> ? "expected an integer, found "
+                                             : "non-numeric token ") +
            quote(token));
     return value;
   }
@@ -159,8 +160,7 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
   for (std::size_t k = 0; k < polygon.size(); ++k)
     if (!to_index(polygon[k], vertex_count, indices[k])) {
       std::ostringstream problem;
-      problem << "vertex index " << polygon[k] << " out of range (" << vertex_count
-              << " vertices)";
+      problem << "vertex index " << polygon[k] << " out of range (" << vertex_count << " vertices)";
       return problem.str();
     }
   for (std::size_t k = 1; k + 1 < indices.size(); ++k)
@@ -195,15 +195,33 @@ class PointSink {
 // ---------------------------------------------------------------------------------------------
 // Binary scalars (PLY bodies, PCD fields)
 
-enum class ScalarType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kInt64, kUint64,
-                        kFloat32, kFloat64 };
+enum class ScalarType {
+  kInt8,
+  kUint8,
+  kInt16,
+  kUint16,
+  kInt32,
+  kUint32,
+  kInt64,
+  kUint64,
+  kFloat32,
+  kFloat64
+};
 
 std::size_t scalar_size(ScalarType type) {
   switch (type) {
-    case ScalarType::kInt8: case ScalarType::kUint8: return 1;
-    case ScalarType::kInt16: case ScalarType::kUint16: return 2;
-    case ScalarType::kInt32: case ScalarType::kUint32: case ScalarType::kFloat32: return 4;
-    default: return 8;
+    case ScalarType::kInt8:
+    case ScalarType::kUint8:
+      return 1;
+    case ScalarType::kInt16:
+    case ScalarType::kUint16:
+      return 2;
+    case ScalarType::kInt32:
+    case ScalarType::kUint32:
+    case ScalarType::kFloat32:
+      return 4;
+    default:
+      return 8;
   }
 }
 
@@ -222,8 +240,7 @@ double load(const char* raw) {
 }
 
 // Reads one value at `cursor` and advances it; false (cursor unchanged) if the data ends first.
-bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swap,
-                 double& value) {
+bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swap, double& value) {
   const std::size_t size = scalar_size(type);
   if (static_cast<std::size_t>(end - cursor) < size) return false;
   char raw[8];
@@ -231,16 +248,36 @@ bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swa
   if (swap) std::reverse(raw, raw + size);
   cursor += size;
   switch (type) {
-    case ScalarType::kInt8: value = load<std::int8_t>(raw); break;
-    case ScalarType::kUint8: value = load<std::uint8_t>(raw); break;
-    case ScalarType::kInt16: value = load<std::int16_t>(raw); break;
-    case ScalarType::kUint16: value = load<std::uint16_t>(raw); break;
-    case ScalarType::kInt32: value = load<std::int32_t>(raw); break;
-    case ScalarType::kUint32: value = load<std::uint32_t>(raw); break;
-    case ScalarType::kInt64: value = load<std::int64_t>(raw); break;
-    case ScalarType::kUint64: value = load<std::uint64_t>(raw); break;
-    case ScalarType::kFloat32: value = load<float>(raw); break;
-    case ScalarType::kFloat64: value = load<double>(raw); break;
+    case ScalarType::kInt8:
+      value = load<std::int8_t>(raw);
+      break;
+    case ScalarType::kUint8:
+      value = load<std::uint8_t>(raw);
+      break;
+    case ScalarType::kInt16:
+      value = load<std::int16_t>(raw);
+      break;
+    case ScalarType::kUint16:
+      value = load<std::uint16_t>(raw);
+      break;
+    case ScalarType::kInt32:
+      value = load<std::int32_t>(raw);
+      break;
+    case ScalarType::kUint32:
+      value = load<std::uint32_t>(raw);
+      break;
+    case ScalarType::kInt64:
+      value = load<std::int64_t>(raw);
+      break;
+    case ScalarType::kUint64:
+      value = load<std::uint64_t>(raw);
+      break;
+    case ScalarType::kFloat32:
+      value = load<float>(raw);
+      break;
+    case ScalarType::kFloat64:
+      value = load<double>(raw);
+      break;
   }
   return true;
 }
@@ -278,13 +315,13 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
 
 bool parse_ply_type(std::string_view name, ScalarType& type) {
   static const std::pair<std::string_view, ScalarType> kTypes[] = {
-      {"char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},
-      {"uchar", ScalarType::kUint8},   {"uint8", ScalarType::kUint8},
-      {"short", ScalarType::kInt16},   {"int16", ScalarType::kInt16},
-      {"ushort", ScalarType::kUint16}, {"uint16", ScalarType::kUint16},
-      {"int", ScalarType::kInt32},     {"int32", ScalarType::kInt32},
-      {"uint", ScalarType::kUint32},   {"uint32", ScalarType::kUint32},
-      {"float", ScalarType::kFloat32}, {"float32", ScalarType::kFloat32},
+      {"char", ScalarType::kInt8},      {"int8", ScalarType::kInt8},
+      {"uchar", ScalarType::kUint8},    {"uint8", ScalarType::kUint8},
+      {"short", ScalarType::kInt16},    {"int16", ScalarType::kInt16},
+      {"ushort", ScalarType::kUint16},  {"uint16", ScalarType::kUint16},
+      {"int", ScalarType::kInt32},      {"int32", ScalarType::kInt32},
+      {"uint", ScalarType::kUint32},    {"uint32", ScalarType::kUint32},
+      {"float", ScalarType::kFloat32},  {"float32", ScalarType::kFloat32},
       {"double", ScalarType::kFloat64}, {"float64", ScalarType::kFloat64}};
   for (const auto& [type_name, value] : kTypes)
     if (type_name == name) {
@@ -361,10 +398,14 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
     if (keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
       if (tokens.size() < 2) header.fail("bad header: incomplete format line");
-      if (tokens[1] == "ascii") ply.format = PlyFormat::kAscii;
-      else if (tokens[1] == "binary_little_endian") ply.format = PlyFormat::kBinaryLittleEndian;
-      else if (tokens[1] == "binary_big_endian") ply.format = PlyFormat::kBinaryBigEndian;
-      else header.fail("bad header: unknown format " + quote(tokens[1]));
+      if (tokens[1] == "ascii")
+        ply.format = PlyFormat::kAscii;
+      else if (tokens[1] == "binary_little_endian")
+        ply.format = PlyFormat::kBinaryLittleEndian;
+      else if (tokens[1] == "binary_big_endian")
+        ply.format = PlyFormat::kBinaryBigEndian;
+      else
+        header.fail("bad header: unknown format " + quote(tokens[1]));
       has_format = true;
     } else if (keyword == "element") {
       if (tokens.size() != 3) header.fail("bad header: expected 'element NAME COUNT'");
@@ -487,8 +528,7 @@ const std::vector<double>& ply_column(const std::string& path, const PlyElement&
   return property->values;
 }
 
-std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply,
-                            std::size_t vertex_count) {
+std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply, std::size_t vertex_count) {
   std::vector<Face> faces;
   const PlyElement* element = ply.find("face");
   if (!element || element->count == 0) return faces;
@@ -517,7 +557,8 @@ SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) 
     const auto& nx = ply_column(path, *vertex, {"nx"});
     const auto& ny = ply_column(path, *vertex, {"ny"});
     const auto& nz = ply_column(path, *vertex, {"nz"});
-    for (std::size_t i = 0; i < vertex->count; ++i) surface.normals.emplace_back(nx[i], ny[i], nz[i]);
+    for (std::size_t i = 0; i < vertex->count; ++i)
+      surface.normals.emplace_back(nx[i], ny[i], nz[i]);
   }
   surface.faces = ply_faces(path, ply, vertex->count);
   return surface;
@@ -534,7 +575,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF")
     lines.fail("bad header: expected OFF, NOFF or COFF, found " + quote(keyword));
   // NOFF promises a normal after each vertex; files that say NOFF but give none load without.
-  const bool normals_announced = keyword.substr(0, keyword.size() - 3).find('N') != std::string_view::npos;
+  const bool normals_announced =
+      keyword.substr(0, keyword.size() - 3).find('N') != std::string_view::npos;
   std::size_t first = 1;
   if (tokens.size() == 1) {
     if (!lines.next(tokens)) fail(path, "bad header: no vertex and face counts");
@@ -547,8 +589,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   PointSink sink;
   for (std::size_t i = 0; i < vertex_count; ++i) {
     if (!lines.next(tokens))
-      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(vertex_count) +
-                     " vertices");
+      fail(path,
+           "truncated: " + std::to_string(i) + " of " + std::to_string(vertex_count) + " vertices");
     if (tokens.size() < 3) lines.fail("expected x y z");
     if (normals_announced && tokens.size() >= 6)
       sink.add_with_normal(lines.vec3(tokens, 0), lines.vec3(tokens, 3));
@@ -558,8 +600,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   std::vector<double> polygon;
   for (std::size_t i = 0; i < face_count; ++i) {
     if (!lines.next(tokens))
-      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(face_count) +
-                     " faces");
+      fail(path,
+           "truncated: " + std::to_string(i) + " of " + std::to_string(face_count) + " faces");
     const std::size_t size = lines.count(tokens[0]);
     if (size > tokens.size() - 1) lines.fail("face lists fewer indices than its size");
     polygon.clear();
@@ -597,8 +639,7 @@ SurfaceInput parse_obj(const std::string& path, std::string_view text) {
     }
   }
   // Normals can be matched to points only in a cloud listing exactly one per point.
-  if (surface.is_mesh() || surface.normals.size() != surface.points.size())
-    surface.normals.clear();
+  if (surface.is_mesh() || surface.normals.size() != surface.points.size()) surface.normals.clear();
   return surface;
 }
 
@@ -639,13 +680,16 @@ SurfaceInput read_pcd(const std::string& path) {
       if (field.name != name) continue;
       using F = pcl::PCLPointField;
       static const std::pair<int, ScalarType> kTypes[] = {
-          {F::INT8, ScalarType::kInt8},     {F::UINT8, ScalarType::kUint8},
-          {F::INT16, ScalarType::kInt16},   {F::UINT16, ScalarType::kUint16},
-          {F::INT32, ScalarType::kInt32},   {F::UINT32, ScalarType::kUint32},
-          {F::INT64, ScalarType::kInt64},   {F::UINT64, ScalarType::kUint64},
+          {F::INT8, ScalarType::kInt8},       {F::UINT8, ScalarType::kUint8},
+          {F::INT16, ScalarType::kInt16},     {F::UINT16, ScalarType::kUint16},
+          {F::INT32, ScalarType::kInt32},     {F::UINT32, ScalarType::kUint32},
+          {F::INT64, ScalarType::kInt64},     {F::UINT64, ScalarType::kUint64},
           {F::FLOAT32, ScalarType::kFloat32}, {F::FLOAT64, ScalarType::kFloat64}};
-      for (const auto& [datatype, type] : kTypes)
-        if (field.datatype == datatype) result = {field.offset, type};
+      const auto known = std::find_if(std::begin(kTypes), std::end(kTypes), [&](const auto& entry) {
+        return entry.first == field.datatype;
+      });
+      if (known == std::end(kTypes)) fail(path, "PCD field '" + name + "' has an unsupported type");
+      result = {field.offset, known->second};
       if (result.offset + scalar_size(result.type) > cloud.point_step)
         fail(path, "PCD field '" + name + "' lies outside its point");
       return true;
@@ -768,10 +812,14 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report) {
   } else if (extension == ".off" || extension == ".ply" || extension == ".obj" ||
              extension == ".xyz" || extension == ".txt") {
     const std::string bytes = read_file(path);
-    if (extension == ".off") surface = parse_off(path, bytes);
-    else if (extension == ".ply") surface = parse_ply_surface(path, bytes);
-    else if (extension == ".obj") surface = parse_obj(path, bytes);
-    else surface = parse_xyz(path, bytes);
+    if (extension == ".off")
+      surface = parse_off(path, bytes);
+    else if (extension == ".ply")
+      surface = parse_ply_surface(path, bytes);
+    else if (extension == ".obj")
+      surface = parse_obj(path, bytes);
+    else
+      surface = parse_xyz(path, bytes);
   } else {
     fail(path, "unknown file extension " + quote(extension) +
                    " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
@@ -794,11 +842,13 @@ CleanReport clean_surface(SurfaceInput& surface) {
 
   std::vector<std::size_t> usable;
   for (std::size_t i = 0; i < count; ++i) {
-    const bool finite =
-        points[i].allFinite() &&
-        (!with_normals || (surface.normals[i].allFinite() && surface.normals[i].norm() > 0.0));
-    if (finite) usable.push_back(i);
-    else ++report.non_finite_points;
+    const bool finite = points[i].allFinite() &&
+                        (!with_normals ||
+                         (surface.normals[i].allFinite() && surface.normals[i].stableNorm() > 0.0));
+    if (finite)
+      usable.push_back(i);
+    else
+      ++report.non_finite_points;
   }
 
   // Sorting by coordinates, then by index, makes the first occurrence of each point its
@@ -837,7 +887,8 @@ CleanReport clean_surface(SurfaceInput& surface) {
                  corners[0] == corners[2] ||
                  0.5 * (points[corners[1]] - points[corners[0]])
                              .cross(points[corners[2]] - points[corners[0]])
-                             .norm() < min_area;
+                             .norm() <
+                     min_area;
     if (degenerate) {
       ++report.degenerate_faces;
       continue;
@@ -857,7 +908,8 @@ CleanReport clean_surface(SurfaceInput& surface) {
     }
     new_index[i] = static_cast<int>(cleaned.points.size());
     cleaned.points.push_back(points[i]);
-    if (with_normals) cleaned.normals.push_back(surface.normals[i].normalized());
+    if (with_normals)
+      cleaned.normals.push_back(surface.normals[i] / surface.normals[i].stableNorm());
   }
   for (const auto& corners : faces)
     cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});
@@ -886,8 +938,10 @@ void write_file_atomically(const std::string& path, const std::string& contents)
   for (std::size_t written = 0; written < contents.size() && problem.empty();) {
     const ssize_t result =
         ::write(descriptor, contents.data() + written, contents.size() - written);
-    if (result >= 0) written += static_cast<std::size_t>(result);
-    else if (errno != EINTR) problem = std::strerror(errno);
+    if (result >= 0)
+      written += static_cast<std::size_t>(result);
+    else if (errno != EINTR)
+      problem = std::strerror(errno);
   }
   if (::close(descriptor) != 0 && problem.empty()) problem = std::strerror(errno);
   if (problem.empty() && std::rename(temporary.c_str(), path.c_str()) != 0)
@@ -968,7 +1022,8 @@ void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
     out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
           std::to_string(mesh.spheres.size()) +
           "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\n"
-          "element edge " + std::to_string(mesh.edges.size()) +
+          "element edge " +
+          std::to_string(mesh.edges.size()) +
           "\nproperty int vertex1\nproperty int vertex2\nelement face " +
           std::to_string(mesh.faces.size()) +
           "\nproperty list uchar int vertex_indices\nend_header\n";

@@ -136,8 +136,8 @@ TEST_F(IoRoundTrip, OffIsExactForDoubles) {
 
 TEST_F(IoRoundTrip, MedialMeshMaExactAndPlyFloat) {
   MedialMesh mesh;
-  mesh.spheres = {{Vec3(0.1, 0.2, 0.3), 0.05}, {Vec3(1.0 / 3.0, 0, -1), 0.125},
-                  {Vec3(0, 1, 0), 1e-3}};
+  mesh.spheres = {
+      {Vec3(0.1, 0.2, 0.3), 0.05}, {Vec3(1.0 / 3.0, 0, -1), 0.125}, {Vec3(0, 1, 0), 1e-3}};
   mesh.edges = {{0, 1}, {1, 2}, {0, 2}};
   mesh.faces = {{0, 1, 2}};
   write_medial_mesh(path("m.ma"), mesh);
@@ -182,16 +182,17 @@ TEST_F(IoRoundTrip, LabelsOnePerLine) {
 class IoPly : public IoTest {};
 
 TEST_F(IoPly, AsciiWithUnknownListElementFirstAndQuad) {
-  const std::string file = write("a.ply",
-                                 "ply\r\nformat ascii 1.0\r\ncomment hello\r\n"
-                                 "element range_grid 3\r\nproperty list uchar int vertex_indices\r\n"
-                                 "element vertex 5\r\nproperty double y\r\nproperty uchar flag\r\n"
-                                 "property float x\r\nproperty int z\r\n"
-                                 "element face 2\r\nproperty list uchar uint vertex_index\r\n"
-                                 "end_header\r\n"
-                                 "0\r\n2 7 8\r\n1 0\r\n"
-                                 "0 9 0 0\r\n0 9 1 0\r\n1 9 1 0\r\n1 9 0 0\r\n0.5 9 0.5 1\r\n"
-                                 "4 0 1 2 3\r\n3 0 1 4\r\n");
+  const std::string file =
+      write("a.ply",
+            "ply\r\nformat ascii 1.0\r\ncomment hello\r\n"
+            "element range_grid 3\r\nproperty list uchar int vertex_indices\r\n"
+            "element vertex 5\r\nproperty double y\r\nproperty uchar flag\r\n"
+            "property float x\r\nproperty int z\r\n"
+            "element face 2\r\nproperty list uchar uint vertex_index\r\n"
+            "end_header\r\n"
+            "0\r\n2 7 8\r\n1 0\r\n"
+            "0 9 0 0\r\n0 9 1 0\r\n1 9 1 0\r\n1 9 0 0\r\n0.5 9 0.5 1\r\n"
+            "4 0 1 2 3\r\n3 0 1 4\r\n");
   const SurfaceInput mesh = read_surface(file);
   ASSERT_EQ(mesh.points.size(), 5u);
   EXPECT_EQ(mesh.points[2], Vec3(1, 1, 0));
@@ -254,11 +255,13 @@ TEST_F(IoPly, MedialMeshAsciiAcceptsRadiusNamedR) {
 }
 
 TEST_F(IoPly, MalformedFilesThrow) {
-  const std::string header = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
-                             "property float y\nproperty float z\n";
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+      "property float y\nproperty float z\n";
   const std::string bad_index =
-      write("i.ply", header + "element face 1\nproperty list uchar int vertex_indices\n"
-                              "end_header\n0 0 0\n1 0 0\n3 0 1 2\n");
+      write("i.ply", header +
+                         "element face 1\nproperty list uchar int vertex_indices\n"
+                         "end_header\n0 0 0\n1 0 0\n3 0 1 2\n");
   expect_io_error([&] { read_surface(bad_index); }, bad_index, "out of range");
   const std::string no_end = write("n.ply", header + "0 0 0\n");
   expect_io_error([&] { read_surface(no_end); }, no_end, "end_header");
@@ -337,8 +340,7 @@ TEST_F(IoObj, SlashFormsNegativeIndicesAndPolygons) {
 }
 
 TEST_F(IoObj, OrientedPointsAndErrors) {
-  const std::string cloud_file =
-      write("c.obj", "v 0 0 0\nv 1 0 0\nvn 0 0 2\nvn 0 1 0\nf\n");
+  const std::string cloud_file = write("c.obj", "v 0 0 0\nv 1 0 0\nvn 0 0 2\nvn 0 1 0\nf\n");
   const SurfaceInput cloud = read_surface(cloud_file);
   ASSERT_EQ(cloud.points.size(), 2u);
   ASSERT_TRUE(cloud.has_normals());
@@ -413,9 +415,9 @@ TEST_F(IoPcd, XyzOnlyAndTruncatedBinary) {
 TEST(IoClean, CountsOnCraftedMesh) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   SurfaceInput mesh;
-  mesh.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0),   // 3 duplicates 1
+  mesh.points = {Vec3(0, 0, 0),   Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0),   // 3 duplicates 1
                  Vec3(nan, 0, 0), Vec3(2, 0, 0), Vec3(5, 5, 5), Vec3(0, 0, 1)};  // 6 unused
-  mesh.faces = {{0, 1, 2},   // kept
+  mesh.faces = {{0, 1, 2},                                                       // kept
                 {0, 3, 7},   // kept, remapped to {0, 1, 7}
                 {0, 4, 2},   // references the NaN point
                 {0, 1, 5},   // collinear: zero area
@@ -464,8 +466,10 @@ TEST_F(IoErrors, PathProblems) {
   for (const char* name : {"e.off", "e.ply", "e.obj", "e.xyz", "e.pcd", "e.ma"}) {
     const std::string empty = write(name, "");
     const auto read = [&] {
-      if (fs::path(empty).extension() == ".ma") read_medial_mesh(empty);
-      else read_surface(empty);
+      if (fs::path(empty).extension() == ".ma")
+        read_medial_mesh(empty);
+      else
+        read_surface(empty);
     };
     expect_io_error(read, empty, "empty file");
   }
