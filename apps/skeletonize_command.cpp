@@ -1,7 +1,199 @@
-#include <stdexcept>
+// `vmas skeletonize`: input shape → medial mesh (PLY or .ma), optionally per-point labels.
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
 
 #include "commands.hpp"
+#include "vmas/error.hpp"
+#include "vmas/io.hpp"
+#include "vmas/normals.hpp"
+#include "vmas/skeletonizer.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace po = boost::program_options;
 
 namespace vmas::cli {
-int skeletonize_command(int, const char* const*) { throw std::runtime_error("not implemented yet"); }
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Fails before any work is done when the outputs cannot possibly be written.
+void check_output_path(const std::string& path, const std::string& what,
+                       std::initializer_list<const char*> extensions) {
+  if (std::filesystem::is_directory(path))
+    throw InvalidOption(what + " '" + path + "' is a directory");
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    throw InvalidOption(what + " '" + path + "': folder '" + parent.string() + "' does not exist");
+  if (extensions.size() == 0) return;
+  const std::string ext = lower_extension(path);
+  for (const char* allowed : extensions)
+    if (ext == allowed) return;
+  throw InvalidOption(what + " '" + path + "' must end in .ply or .ma");
+}
+
+const char* kDescription =
+    "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
+    "\n"
+    "Computes a medial mesh (spheres, edges, triangles) of INPUT, a triangle mesh or point\n"
+    "cloud (.off .ply .obj .xyz .txt .pcd), by variational medial axis sampling. OUTPUT is a\n"
+    "PLY (vertex x y z radius, edge, face) or a .ma file (Q-MAT format).\n"
+    "\n"
+    "options";
+
+}  // namespace
+
+int skeletonize_command(int argc, const char* const* argv) {
+  const SkeletonizerOptions defaults;
+  const ShapeOptions shape_defaults;
+  const NormalOptions normal_defaults;
+  std::string input, output, labels_path;
+  SkeletonizerOptions options;
+  ShapeOptions shape_options;
+  NormalOptions normal_options;
+  int threads = 0;
+  po::options_description visible(kDescription);
+  visible.add_options()
+      ("help,h", "print this help")
+      ("output,o", po::value(&output), "medial mesh to write (.ply or .ma)")
+      ("spheres,n", po::value(&options.target_spheres),
+       "number of medial spheres to produce (met exactly; default 100 when --error is absent)")
+      ("error,e", po::value(&options.error_threshold),
+       "instead of a count: split until every cluster's RMS error is below E "
+       "(relative to the bounding-box diagonal, e.g. 0.002)")
+      ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda),
+       "weight of the point-sphere term against the plane-sphere (SQEM) term")
+      ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
+       "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
+      ("normal-k", po::value(&normal_options.k)->default_value(normal_defaults.k),
+       "neighbours used to estimate and orient normals of clouds that have none")
+      ("estimate-normals", "estimate normals even if the file has them")
+      ("labels", po::value(&labels_path), "also write the cluster of every input point (text)")
+      ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
+      ("max-iterations", po::value(&options.max_iterations)->default_value(defaults.max_iterations),
+       "stop after this many partition/update steps")
+      ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
+      ("quiet,q", "print nothing but errors");
+  po::options_description hidden;
+  hidden.add_options()("input", po::value(&input));
+  po::options_description all;
+  all.add(visible).add(hidden);
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::cout << visible << "\nexample: vmas skeletonize clouds/dove.off --spheres 76 -o dove.ply\n";
+    return 0;
+  }
+  po::notify(vm);
+  if (input.empty()) throw po::error("missing INPUT");
+  if (output.empty()) throw po::error("missing --output");
+  if (vm.count("spheres") && vm.count("error"))
+    throw po::error("give either --spheres or --error, not both");
+  if (!vm.count("spheres") && !vm.count("error")) options.target_spheres = 100;
+  if (vm.count("spheres") && options.target_spheres < 1)
+    throw InvalidOption("--spheres must be at least 1 (got " +
+                        std::to_string(options.target_spheres) + ")");
+  if (vm.count("error") && !(options.error_threshold > 0.0))
+    throw InvalidOption("--error must be positive");
+  options.project = !vm.count("no-projection");
+  if (threads < 0) throw InvalidOption("--threads must be 0 or more");
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#endif
+  options.validate();
+  shape_options.validate();
+  normal_options.validate();
+  check_output_path(output, "output", {".ply", ".ma"});
+  if (!labels_path.empty()) check_output_path(labels_path, "labels file", {});
+  const bool quiet = vm.count("quiet") > 0;
+  const bool show_progress = !quiet && isatty(fileno(stderr));
+
+  const auto start = Clock::now();
+  CleanReport report;
+  SurfaceInput surface = read_surface(input, &report);
+  const double read_time = seconds_since(start);
+  if (!quiet) {
+    std::cout << "input " << input << ": " << surface.points.size() << " points, "
+              << (surface.is_mesh() ? std::to_string(surface.faces.size()) + " faces"
+                                    : std::string("point cloud"))
+              << (surface.has_normals() || surface.is_mesh() ? "" : ", no normals") << "\n";
+    if (report.total() > 0)
+      std::cout << "cleaned: removed " << report.non_finite_points << " non-finite points, "
+                << report.duplicate_points << " duplicates, " << report.degenerate_faces
+                << " degenerate faces, " << report.unused_points << " unused vertices\n";
+  }
+  double normals_time = 0.0;
+  if (!surface.is_mesh() && (!surface.has_normals() || vm.count("estimate-normals"))) {
+    const auto normals_start = Clock::now();
+    surface.normals = estimate_normals(surface.points, normal_options);
+    normals_time = seconds_since(normals_start);
+    if (!quiet)
+      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", "
+                << normals_time << " s)\n";
+  }
+  if (!quiet)
+    std::cout << "parameters: "
+              << (options.target_spheres > 0
+                      ? "spheres=" + std::to_string(options.target_spheres)
+                      : "error=" + std::to_string(options.error_threshold))
+              << " lambda=" << options.lambda << " k=" << shape_options.k
+              << " projection=" << (options.project ? "on" : "off")
+#ifdef _OPENMP
+              << " threads=" << omp_get_max_threads()
+#endif
+              << "\n";
+
+  const auto shape_start = Clock::now();
+  Skeletonizer skeletonizer(build_shape(surface, shape_options), options);
+  const double shape_time = seconds_since(shape_start);
+  const RunSummary summary = skeletonizer.run([&](const Progress& p) {
+    if (show_progress)
+      std::fprintf(stderr, "\riteration %d: %d spheres, error %.3e   ", p.iteration, p.spheres,
+                   p.error);
+  });
+  if (show_progress) std::fprintf(stderr, "\n");
+  const auto connectivity_start = Clock::now();
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  const double connectivity_time = seconds_since(connectivity_start);
+  const auto write_start = Clock::now();
+  write_medial_mesh(output, mesh);
+  if (!labels_path.empty()) write_labels(labels_path, skeletonizer.labels());
+  const double write_time = seconds_since(write_start);
+
+  if (!quiet) {
+    const StageTimes& t = skeletonizer.times();
+    std::cout << "result: " << mesh.spheres.size() << " spheres, " << mesh.edges.size()
+              << " edges, " << mesh.faces.size() << " faces; " << summary.iterations
+              << " iterations" << (summary.converged ? "" : " (stopped by --max-iterations)")
+              << ", total error " << summary.error << "\n"
+              << "time (s): total " << seconds_since(start) << " = read " << read_time
+              << ", normals " << normals_time << ", shape " << shape_time << ", partition "
+              << t.partition << ", update " << t.update << ", projection " << t.projection
+              << ", split " << t.split << ", connectivity " << connectivity_time << ", write "
+              << write_time << "\n"
+              << "wrote " << output << (labels_path.empty() ? "" : " and " + labels_path) << "\n";
+  }
+  return 0;
+}
+
 }  // namespace vmas::cli
