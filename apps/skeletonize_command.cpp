@@ -79,7 +79,7 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("error,e", po::value(&options.error_threshold),
        "instead of a count: split until every cluster's RMS error is below E "
        "(relative to the bounding-box diagonal, e.g. 0.002)")
-      ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda),
+      ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
       ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
@@ -90,6 +90,10 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
       ("max-iterations", po::value(&options.max_iterations)->default_value(defaults.max_iterations),
        "stop after this many partition/update steps")
+      ("convergence", po::value(&options.convergence)->default_value(defaults.convergence, "0.001"),
+       "split (or stop) once the total error changes by less than this fraction per step")
+      ("split-interval", po::value(&options.split_interval)->default_value(defaults.split_interval),
+       "split at least every this many steps while spheres are missing")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
       ("quiet,q", "print nothing but errors");
   po::options_description hidden;

@@ -1,6 +1,7 @@
 #include "vmas/kdtree.hpp"
 
 #include <flann/flann.hpp>
+#include <limits>
 
 #include "vmas/error.hpp"
 
@@ -26,12 +27,36 @@ KdTree::~KdTree() = default;
 KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
+namespace {
+
+// The single nearest neighbour without the allocations of FLANN's general k-NN path: this query
+// runs in the inner loop of the shrinking ball.
+class NearestResult : public flann::ResultSet<double> {
+ public:
+  bool full() const override { return true; }
+  void addPoint(double distance, size_t index) override {
+    if (distance < distance_ || (distance == distance_ && index < index_)) {
+      distance_ = distance;
+      index_ = index;
+    }
+  }
+  double worstDist() const override { return distance_; }
+  double distance() const { return distance_; }
+  size_t index() const { return index_; }
+
+ private:
+  double distance_ = std::numeric_limits<double>::max();
+  size_t index_ = 0;
+};
+
+}  // namespace
+
 int KdTree::nearest(const Vec3& query, double* squared_distance) const {
-  std::vector<int> indices;
-  std::vector<double> distances;
-  k_nearest(query, 1, indices, distances);
-  if (squared_distance) *squared_distance = distances[0];
-  return indices[0];
+  NearestResult result;
+  const double q[3] = {query.x(), query.y(), query.z()};
+  impl_->index->findNeighbors(result, q, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED));
+  if (squared_distance) *squared_distance = result.distance();
+  return static_cast<int>(result.index());
 }
 
 void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,

@@ -29,7 +29,8 @@ void SkeletonizerOptions::validate() const {
   if (!(convergence >= 0.0 && convergence < 1.0))
     throw InvalidOption("convergence must be in [0, 1) (got " + std::to_string(convergence) + ")");
   if (split_interval < 1) throw InvalidOption("split interval must be at least 1");
-  if (settle_iterations < 0) throw InvalidOption("settle iterations must be at least 0");
+  if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
+    throw InvalidOption("settle iterations must be in [0, max settle iterations]");
   if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
   update.validate();
   shrinking_ball.validate();
@@ -77,30 +78,39 @@ void Skeletonizer::repartition() {
   members_.assign(spheres_.size(), {});
   for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
   times_.partition += seconds_since(start);
-  refresh_errors();
+  refresh_errors(false);  // partition() left E_v of the assigned spheres in vertex_energies_
 }
 
-bool Skeletonizer::remove_tiny_clusters() {
-  std::vector<int> new_id(spheres_.size(), -1);
-  int kept = 0;
-  for (std::size_t m = 0; m < spheres_.size(); ++m)
-    if (frozen_[m] || static_cast<int>(members_[m].size()) >= options_.min_cluster_size)
-      new_id[m] = kept++;
-  if (kept == static_cast<int>(spheres_.size()) || kept == 0) return false;
-  std::vector<Sphere> spheres;
-  std::vector<bool> frozen;
-  for (std::size_t m = 0; m < spheres_.size(); ++m) {
-    if (new_id[m] < 0) continue;
-    spheres.push_back(spheres_[m]);
-    frozen.push_back(frozen_[m]);
+bool Skeletonizer::reseed_tiny_clusters() {
+  const int count = static_cast<int>(spheres_.size());
+  std::vector<int> tiny;
+  std::vector<int> donors;  // clusters that may give up their worst vertex, worst error first
+  for (int c = 0; c < count; ++c) {
+    if (frozen_[c]) continue;
+    if (static_cast<int>(members_[c].size()) < options_.min_cluster_size)
+      tiny.push_back(c);
+    else
+      donors.push_back(c);
   }
-  spheres_ = std::move(spheres);
-  frozen_ = std::move(frozen);
-  for (int& label : labels_) label = new_id[label];
-  return true;
+  if (tiny.empty()) return false;
+  std::stable_sort(donors.begin(), donors.end(),
+                   [&](int a, int b) { return cluster_errors_[a] > cluster_errors_[b]; });
+  const std::size_t moved = std::min(tiny.size(), donors.size());
+  for (std::size_t i = 0; i < moved; ++i) {
+    const int worst = worst_vertex(donors[i]);
+    spheres_[tiny[i]] = projector_.shrink(worst, -shape_.normals[worst]);
+  }
+  return moved > 0;
 }
 
-void Skeletonizer::refresh_errors() {
+int Skeletonizer::worst_vertex(int cluster) const {
+  int worst = members_[cluster].front();
+  for (int v : members_[cluster])
+    if (vertex_energies_[v] > vertex_energies_[worst]) worst = v;
+  return worst;
+}
+
+void Skeletonizer::refresh_errors(bool spheres_moved) {
   const int count = static_cast<int>(spheres_.size());
   cluster_errors_.assign(count, 0.0);
   total_error_ = 0.0;
@@ -109,7 +119,7 @@ void Skeletonizer::refresh_errors() {
     double energy = 0.0;
     double area = 0.0;
     for (int v : members_[c]) {
-      vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
+      if (spheres_moved) vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
       energy += vertex_energies_[v];
       area += shape_.area[v];
     }
@@ -125,8 +135,9 @@ void Skeletonizer::refresh_errors() {
 
 double Skeletonizer::step() {
   repartition();
-  // Clusters that shrank to a handful of vertices carry no shape information: drop them.
-  if (remove_tiny_clusters()) repartition();
+  // A cluster that shrank to a handful of vertices carries no shape information: its sphere is
+  // better spent where the error is largest (this keeps the sphere count exact).
+  if (reseed_tiny_clusters()) repartition();
   const int count = static_cast<int>(spheres_.size());
   auto start = Clock::now();
   std::vector<Sphere> fitted = spheres_;
@@ -143,7 +154,7 @@ double Skeletonizer::step() {
     times_.projection += seconds_since(start);
   }
   spheres_ = std::move(fitted);
-  refresh_errors();
+  refresh_errors(true);
   return total_error_;
 }
 
@@ -172,10 +183,7 @@ int Skeletonizer::split() {
   const auto chosen = select_clusters_to_split(
       cluster_errors_, cluster_adjacency(shape_, labels_, count), eligible, threshold, max_count);
   for (int c : chosen) {
-    // Seed: the vertex of the cluster that its sphere fits worst.
-    int worst = members_[c].front();
-    for (int v : members_[c])
-      if (vertex_energies_[v] > vertex_energies_[worst]) worst = v;
+    const int worst = worst_vertex(c);
     spheres_.push_back(projector_.shrink(worst, -shape_.normals[worst]));
     frozen_.push_back(false);
   }
@@ -195,8 +203,9 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
     const bool converged =
         std::abs(previous_error - error) <= options_.convergence * std::max(error, 1e-300);
     previous_error = error;
+    const int since_split = iteration - last_split;
     if (wants_more_spheres()) {
-      if (converged || iteration - last_split >= options_.split_interval) {
+      if (converged || since_split >= options_.split_interval) {
         if (split() > 0) {
           last_split = iteration;
           continue;
@@ -206,9 +215,10 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
           break;
         }
       }
-    } else if (converged && iteration - last_split >= options_.settle_iterations) {
-      summary.converged = true;
-      break;
+    } else if (since_split >= options_.settle_iterations) {
+      // Spheres may keep trading a few vertices for ever (paper §5): stop after a while.
+      summary.converged = converged;
+      if (converged || since_split >= options_.max_settle_iterations) break;
     }
   }
   summary.spheres = static_cast<int>(spheres_.size());

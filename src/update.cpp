@@ -24,6 +24,36 @@ double cluster_energy(const Shape& shape, const std::vector<int>& members, const
   return energy;
 }
 
+namespace {
+
+// F(s) of one cluster, using the summed quadric for the SQEM part. When `hessian` is given, also
+// the normal equations of the step from s: the Euclidean residuals ‖p−q‖ − r linearised with the
+// unit directions u = (p − q)/‖p − q‖ frozen, i.e. ∇[½sᵀAs − bᵀs + λΣA(v)(uᵀp − ũᵀs)²] = 0 with
+// ũ = (u, 1).
+double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem& cluster_quadric,
+                const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
+  const Vec3 center = s.head<3>();
+  double euclidean = 0.0;
+  if (hessian) {
+    *hessian = cluster_quadric.A;
+    *rhs = cluster_quadric.b;
+  }
+  for (int v : members) {
+    const Vec3 offset = shape.points[v] - center;
+    const double length = offset.norm();
+    euclidean += shape.area[v] * (length - s.w()) * (length - s.w());
+    if (!hessian || !(length > 0.0)) continue;  // a sample at the centre gives no direction
+    const Vec3 u = offset / length;
+    const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
+    const double weight = 2.0 * lambda * shape.area[v];
+    hessian->noalias() += weight * direction * direction.transpose();
+    rhs->noalias() += (weight * u.dot(shape.points[v])) * direction;
+  }
+  return cluster_quadric(s) + lambda * euclidean;
+}
+
+}  // namespace
+
 Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sphere& initial,
                   double lambda, const UpdateOptions& options) {
   if (members.empty()) return initial;
@@ -32,22 +62,12 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
 
   Vec4 current = to_vec4(initial);
   current.w() = std::max(current.w(), 0.0);
-  double current_energy = cluster_energy(shape, members, to_sphere(current), lambda);
+  Eigen::Matrix4d hessian;
+  Vec4 rhs;
+  double current_energy =
+      evaluate(shape, members, cluster_quadric, current, lambda, &hessian, &rhs);
   const double step_tolerance = options.step_tolerance * shape.diagonal;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
-    // Normal equations of the linearised objective: ∇ of ½sᵀAs − bᵀs + λΣA(uᵀp − vᵀs)².
-    Eigen::Matrix4d hessian = cluster_quadric.A;
-    Vec4 rhs = cluster_quadric.b;
-    for (int v : members) {
-      const Vec3 offset = shape.points[v] - current.head<3>();
-      const double length = offset.norm();
-      if (!(length > 0.0)) continue;  // a sample at the centre gives no direction
-      const Vec3 u = offset / length;
-      const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
-      const double weight = 2.0 * lambda * shape.area[v];
-      hessian.noalias() += weight * direction * direction.transpose();
-      rhs.noalias() += (weight * u.dot(shape.points[v])) * direction;
-    }
     const Eigen::LDLT<Eigen::Matrix4d> solver(hessian);
     if (solver.info() != Eigen::Success) break;
     Vec4 target = solver.solve(rhs);
@@ -60,10 +80,15 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
     bool accepted = false;
     for (int halving = 0; halving < 12; ++halving, scale *= 0.5) {
       const Vec4 candidate = current + scale * step;
-      const double energy = cluster_energy(shape, members, to_sphere(candidate), lambda);
+      Eigen::Matrix4d next_hessian;
+      Vec4 next_rhs;
+      const double energy =
+          evaluate(shape, members, cluster_quadric, candidate, lambda, &next_hessian, &next_rhs);
       if (energy <= current_energy) {
         current = candidate;
         current_energy = energy;
+        hessian = next_hessian;
+        rhs = next_rhs;
         accepted = true;
         break;
       }

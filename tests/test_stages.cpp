@@ -127,7 +127,7 @@ TEST(Update, EnergyNeverIncreasesAndFitsTheSphere) {
       one_step.max_iterations = 1;
       sphere = fit_sphere(shape, all, sphere, 0.2, one_step);
       const double next = cluster_energy(shape, all, sphere, 0.2);
-      EXPECT_LE(next, energy * (1 + 1e-12));
+      EXPECT_LE(next, energy * (1 + 1e-8));  // rounding: the fit sums the quadrics first
       EXPECT_GE(sphere.radius, 0.0);
       energy = next;
     }

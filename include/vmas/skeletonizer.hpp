@@ -22,10 +22,12 @@ struct SkeletonizerOptions {
                                   // to the diagonal (0: no error target)
   int max_spheres = 5000;         // hard cap when only an error threshold is given
   int max_iterations = 3000;      // partition + update steps in run()
-  double convergence = 1e-5;      // converged when the total error changes by less (relative)
+  double convergence = 1e-3;      // converged when the total error changes by less (relative)
   int split_interval = 10;        // split at least every this many steps while spheres are missing
-  int settle_iterations = 5;      // steps after the last split before run() may stop
-  int min_cluster_size = 4;       // spheres with fewer vertices are removed after a partition
+  int settle_iterations = 3;      // steps after the last split before run() may stop
+  int max_settle_iterations = 30; // ... and after which it stops even if not converged
+  int min_cluster_size = 4;       // a sphere with fewer vertices is moved to the worst vertex
+                                  // of the worst cluster after a partition
   bool project = true;            // shrinking-ball correction after every update (§3.3)
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
@@ -48,7 +50,7 @@ struct RunSummary {
   int iterations = 0;
   int spheres = 0;
   double error = 0.0;
-  bool converged = false;  // false when max_iterations stopped the run
+  bool converged = false;  // false when an iteration cap stopped the run
 };
 
 class Skeletonizer {
@@ -66,7 +68,7 @@ class Skeletonizer {
   RunSummary run(const std::function<void(const Progress&)>& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
-  // whose cluster stays below min_cluster_size is removed by the next step().
+  // whose cluster stays below min_cluster_size is moved by the next step().
   int add_sphere_at(int vertex);  // the shrinking ball at `vertex`; returns its id
   void remove_sphere(int id);
   void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
@@ -83,8 +85,9 @@ class Skeletonizer {
 
  private:
   void repartition();           // partition, then refresh members and errors
-  bool remove_tiny_clusters();  // drops spheres with too few vertices; true if any went
-  void refresh_errors();
+  bool reseed_tiny_clusters();  // moves spheres with too few vertices; true if any moved
+  int worst_vertex(int cluster) const;  // the member with the largest E_v
+  void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   bool wants_more_spheres() const;
   void check_id(int id) const;
 
