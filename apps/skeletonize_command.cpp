@@ -94,6 +94,10 @@ int skeletonize_command(int argc, const char* const* argv) {
        "split (or stop) once the total error changes by less than this fraction per step")
       ("split-interval", po::value(&options.split_interval)->default_value(defaults.split_interval),
        "split at least every this many steps while spheres are missing")
+      ("denoise-angle", po::value(&options.shrinking_ball.denoise_angle_deg)
+           ->default_value(defaults.shrinking_ball.denoise_angle_deg),
+       "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
+       "disables it")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
       ("quiet,q", "print nothing but errors");
   po::options_description hidden;

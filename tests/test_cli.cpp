@@ -1,0 +1,155 @@
+// The `vmas` command line: exit codes, one-line errors, no output left behind on failure.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_shapes.hpp"
+#include "vmas/io.hpp"
+
+namespace vmas {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("vmas_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& arguments) const {
+    const std::string command = std::string(VMAS_CLI) + " " + arguments + " > " +
+                                (dir_ / "stdout").string() + " 2> " + (dir_ / "stderr").string();
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir_ / "stdout"),
+            read_text(dir_ / "stderr")};
+  }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+  }
+
+  // Files in the folder besides the captured streams.
+  std::size_t file_count() const {
+    std::size_t count = 0;
+    for (const auto& entry : fs::directory_iterator(dir_))
+      count += entry.path().filename() != "stdout" && entry.path().filename() != "stderr";
+    return count;
+  }
+
+  fs::path dir_;
+};
+
+// A one-line error on stderr that names `what`.
+void expect_one_line_error(const Result& r, const std::string& what) {
+  EXPECT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, SkeletonizesAMeshAndWritesLabels) {
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  const Result r = run("skeletonize " + path("capsule.off") + " --spheres 6 -o " +
+                       path("out.ply") + " --labels " + path("labels.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("6 spheres"), std::string::npos) << r.out;
+  const MedialMesh mesh = read_medial_mesh(path("out.ply"));
+  EXPECT_EQ(mesh.spheres.size(), 6u);
+  std::ifstream labels(path("labels.txt"));
+  int label = 0, lines = 0;
+  while (labels >> label) {
+    EXPECT_TRUE(label >= 0 && label < 6);
+    ++lines;
+  }
+  EXPECT_EQ(lines, static_cast<int>(read_surface(path("capsule.off")).points.size()));
+}
+
+TEST_F(Cli, WritesMaByExtension) {
+  write_surface(path("sphere.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  const Result r = run("skeletonize " + path("sphere.off") + " -n 1 -q -o " + path("out.ma"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  const MedialMesh mesh = read_medial_mesh(path("out.ma"));
+  ASSERT_EQ(mesh.spheres.size(), 1u);
+  EXPECT_NEAR(mesh.spheres[0].radius, 1.0, 0.02);
+}
+
+TEST_F(Cli, HelpAndUsageErrors) {
+  EXPECT_EQ(run("--help").exit_code, 0);
+  EXPECT_EQ(run("skeletonize --help").exit_code, 0);
+  EXPECT_EQ(run("").exit_code, 2);
+  EXPECT_EQ(run("frobnicate").exit_code, 2);
+  write_surface(path("sphere.off"), test::icosphere(Vec3::Zero(), 1.0, 2));
+  const std::string input = path("sphere.off");
+  const std::size_t files = file_count();
+  Result r = run("skeletonize " + input + " --spheres 0 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "spheres");
+  r = run("skeletonize " + input + " --lambda -1 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "lambda");
+  r = run("skeletonize " + input + " --spheres 3 -o " + dir_.string());
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "directory");
+  r = run("skeletonize " + input + " --spheres 3 -o " + path("out.obj"));
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, ".ply or .ma");
+  r = run("skeletonize " + input + " --spheres 3");
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "--output");
+  r = run("skeletonize " + input + " --spheres 3 --error 0.01 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  r = run("skeletonize " + input + " --bogus -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  r = run("skeletonize " + input + " --spheres many -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(file_count(), files);  // no output written by any of these
+}
+
+TEST_F(Cli, BadInputFilesGiveOneLineErrorsAndNoOutput) {
+  write("empty.off", "");
+  write("unknown.stl", "solid x\n");
+  write("nan.xyz", "nan 0 0\n0 nan 0\n");
+  write("text.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  const std::size_t files = file_count();
+  for (const std::string name : {"missing.off", "empty.off", "unknown.stl", "nan.xyz", "text.ply"}) {
+    const Result r = run("skeletonize " + path(name) + " --spheres 3 -o " + path("out.ply"));
+    EXPECT_EQ(r.exit_code, 1) << name;
+    expect_one_line_error(r, name);
+  }
+  EXPECT_EQ(file_count(), files);
+}
+
+TEST_F(Cli, TooFewPointsForTheSphereCountIsAnError) {
+  write("tiny.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n0 0 1 0 0 1\n"
+                    "1 0 1 0 0 1\n0 1 1 0 0 1\n1 1 1 0 0 1\n");
+  const Result r = run("skeletonize " + path("tiny.xyz") + " --spheres 50 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "spheres");
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+}
+
+}  // namespace
+}  // namespace vmas
