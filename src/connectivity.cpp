@@ -21,26 +21,6 @@ std::vector<std::vector<int>> cluster_adjacency(const Shape& shape, const std::v
   return adjacency;
 }
 
-std::vector<std::array<int, 3>> dual_triangles(const Shape& shape, const std::vector<int>& labels) {
-  std::vector<std::array<int, 3>> faces;
-  auto begin = [&](int v) { return shape.neighbours.begin() + shape.neighbour_offsets[v]; };
-  auto end = [&](int v) { return shape.neighbours.begin() + shape.neighbour_offsets[v + 1]; };
-  for (int u = 0; u < shape.size(); ++u)
-    for (auto v = begin(u); v != end(u); ++v) {
-      if (*v <= u || labels[*v] == labels[u]) continue;
-      for (auto w = v + 1; w != end(u); ++w) {
-        if (*w <= u || labels[*w] == labels[u] || labels[*w] == labels[*v]) continue;
-        if (!std::binary_search(begin(*v), end(*v), *w)) continue;
-        std::array<int, 3> f = {labels[u], labels[*v], labels[*w]};
-        std::sort(f.begin(), f.end());
-        faces.push_back(f);
-      }
-    }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  return faces;
-}
-
 MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
                              const std::vector<std::vector<int>>& adjacency) {
   MedialMesh mesh;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <string>
 
@@ -258,9 +257,7 @@ void Skeletonizer::freeze(int id, bool frozen) {
 
 MedialMesh Skeletonizer::medial_mesh() const {
   const int count = static_cast<int>(spheres_.size());
-  MedialMesh mesh = build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
-  if (std::getenv("VMAS_DUAL")) mesh.faces = dual_triangles(shape_, labels_);
-  return mesh;
+  return build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
 }
 
 }  // namespace vmas

@@ -12,9 +12,6 @@ namespace vmas {
 std::vector<std::vector<int>> cluster_adjacency(const Shape& shape, const std::vector<int>& labels,
                                                 int cluster_count);
 
-// Triangles (i < j < k) of clusters that meet at a triangle of the neighbour graph.
-std::vector<std::array<int, 3>> dual_triangles(const Shape& shape, const std::vector<int>& labels);
-
 // Edges (i < j, every adjacent pair, face edges included) and faces (i < j < k, every 3-clique).
 MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
                              const std::vector<std::vector<int>>& adjacency);

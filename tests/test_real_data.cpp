@@ -1,0 +1,126 @@
+// Loose checks on the real models and scans in ../shared/data (skipped when it is absent).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <string>
+
+#include "vmas/io.hpp"
+#include "vmas/normals.hpp"
+#include "vmas/skeletonizer.hpp"
+
+namespace vmas {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string data_path(const std::string& relative) {
+  const char* override_dir = std::getenv("VMAS_SHARED_DATA");
+  return (fs::path(override_dir ? override_dir : VMAS_SHARED_DATA) / relative).string();
+}
+
+#define REQUIRE_DATA(relative)                                                         \
+  if (!fs::exists(data_path(relative)))                                               \
+    GTEST_SKIP() << "shared data not found: " << data_path(relative)                  \
+                 << " (set VMAS_SHARED_DATA to the folder holding meshes/ and scans/)";
+
+// Generalised winding number of a closed mesh at `x`: ≈1 inside, ≈0 outside.
+double winding_number(const SurfaceInput& mesh, const Vec3& x) {
+  double total = 0.0;
+  for (const auto& f : mesh.faces) {
+    const Vec3 a = mesh.points[f[0]] - x, b = mesh.points[f[1]] - x, c = mesh.points[f[2]] - x;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * M_PI);
+}
+
+int connected_components(const MedialMesh& mesh) {
+  std::vector<int> parent(mesh.spheres.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+  for (const auto& e : mesh.edges) parent[find(e[0])] = find(e[1]);
+  int count = 0;
+  for (int i = 0; i < static_cast<int>(parent.size()); ++i) count += find(i) == i;
+  return count;
+}
+
+void expect_valid(const MedialMesh& mesh, std::size_t spheres) {
+  ASSERT_EQ(mesh.spheres.size(), spheres);
+  for (const Sphere& s : mesh.spheres) {
+    EXPECT_TRUE(s.center.allFinite());
+    EXPECT_TRUE(std::isfinite(s.radius) && s.radius > 0.0);
+  }
+  const int n = static_cast<int>(spheres);
+  for (const auto& e : mesh.edges) EXPECT_TRUE(e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n);
+  for (const auto& f : mesh.faces)
+    for (int i : f) EXPECT_TRUE(i >= 0 && i < n);
+}
+
+class RealMesh : public ::testing::TestWithParam<std::pair<const char*, int>> {};
+
+TEST_P(RealMesh, PaperSphereCountGivesAValidConnectedSkeletonInsideTheShape) {
+  const auto [model, spheres] = GetParam();
+  const std::string relative = std::string("meshes/") + model + ".off";
+  REQUIRE_DATA(relative);
+  const SurfaceInput surface = read_surface(data_path(relative));
+  SkeletonizerOptions options;
+  options.target_spheres = spheres;
+  Skeletonizer skeletonizer(build_shape(surface, {}), options);
+  skeletonizer.run();
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  expect_valid(mesh, spheres);
+  EXPECT_EQ(connected_components(mesh), 1);
+  for (const Sphere& s : mesh.spheres) EXPECT_GT(winding_number(surface, s.center), 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, RealMesh,
+                         ::testing::Values(std::make_pair("dove", 76), std::make_pair("bear", 45),
+                                           std::make_pair("chair", 117)),
+                         [](const auto& info) { return std::string(info.param.first); });
+
+TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
+  REQUIRE_DATA("scans/bunny_merged_45k.xyz");
+  SurfaceInput cloud = read_surface(data_path("scans/bunny_merged_45k.xyz"));
+  ASSERT_FALSE(cloud.has_normals());
+  cloud.normals = estimate_normals(cloud.points, {});
+  SkeletonizerOptions options;
+  options.target_spheres = 40;
+  Skeletonizer skeletonizer(build_shape(cloud, {}), options);
+  skeletonizer.run();
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  expect_valid(mesh, 40);
+  EXPECT_EQ(connected_components(mesh), 1);
+  // Medial balls of a closed-ish scan are small next to the shape.
+  for (const Sphere& s : mesh.spheres) EXPECT_LT(s.radius, 0.5 * skeletonizer.shape().diagonal);
+}
+
+TEST(Determinism, SameOutputWithOneAndTwoThreads) {
+  REQUIRE_DATA("meshes/bear.off");
+  const SurfaceInput surface = read_surface(data_path("meshes/bear.off"));
+  SkeletonizerOptions options;
+  options.target_spheres = 30;
+  std::vector<MedialMesh> results;
+  const int threads_before = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Skeletonizer skeletonizer(build_shape(surface, {}), options);
+    skeletonizer.run();
+    results.push_back(skeletonizer.medial_mesh());
+  }
+  omp_set_num_threads(threads_before);
+  ASSERT_EQ(results[0].spheres.size(), results[1].spheres.size());
+  for (std::size_t i = 0; i < results[0].spheres.size(); ++i) {
+    EXPECT_EQ(results[0].spheres[i].center, results[1].spheres[i].center);
+    EXPECT_EQ(results[0].spheres[i].radius, results[1].spheres[i].radius);
+  }
+  EXPECT_EQ(results[0].edges, results[1].edges);
+  EXPECT_EQ(results[0].faces, results[1].faces);
+}
+
+}  // namespace
+}  // namespace vmas
