@@ -158,22 +158,23 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
 // become NaN so that clean_surface drops those points; without any normal, none are kept.
 class PointSink {
  public:
-  void add(const Vec3& point, const Vec3& normal = Vec3::Constant(kNaN)) {
-    surface_.points.push_back(point);
-    surface_.normals.push_back(normal);
-  }
+  void add(const Vec3& point) { push(point, Vec3::Constant(kNaN)); }
   void add_with_normal(const Vec3& point, const Vec3& normal) {
-    add(point, normal);
+    push(point, normal);
     any_normal_ = true;
   }
+  std::vector<Face>& faces() { return surface_.faces; }
   SurfaceInput finish() {
     if (!any_normal_) surface_.normals.clear();
     return std::move(surface_);
   }
-  std::size_t size() const { return surface_.points.size(); }
-  std::vector<Face>& faces() { return surface_.faces; }
 
  private:
+  void push(const Vec3& point, const Vec3& normal) {
+    surface_.points.push_back(point);
+    surface_.normals.push_back(normal);
+  }
+
   SurfaceInput surface_;
   bool any_normal_ = false;
 };
@@ -370,6 +371,9 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
         header.fail("bad header: expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
       if (property.is_list && !parse_ply_type(tokens[2], property.count_type))
         header.fail("bad header: unknown type " + quote(tokens[2]));
+      if (property.is_list && (property.count_type == ScalarType::kFloat32 ||
+                               property.count_type == ScalarType::kFloat64))
+        header.fail("bad header: list length type must be an integer type");
       if (!parse_ply_type(tokens[expected - 2], property.type))
         header.fail("bad header: unknown type " + quote(tokens[expected - 2]));
       property.name = tokens[expected - 1];
