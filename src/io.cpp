@@ -1,9 +1,8 @@
+// Readers of the IO stage (one tokenizer and one PLY parser for every format) and clean_surface.
 #include "vmas/io.hpp"
 
-#include <fcntl.h>
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -15,35 +14,22 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <random>
 #include <sstream>
 #include <string_view>
 
+#include "io_internal.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
 namespace {
 
+using io_internal::fail;
+using io_internal::host_is_little_endian;
+using io_internal::lower_extension;
+using io_internal::quote;
+
 using Face = std::array<int, 3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw IoError(path + ": " + problem);
-}
-
-// Quotes a token for an error message, keeping the message short and on one printable line.
-std::string quote(std::string_view token) {
-  std::string text(token.substr(0, 40));
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
-  return "'" + text + (token.size() > 40 ? "...'" : "'");
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
 
 // Fails with a clear message for the usual reasons a path cannot be read.
 void check_readable(const std::string& path) {
@@ -172,22 +158,23 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
 // become NaN so that clean_surface drops those points; without any normal, none are kept.
 class PointSink {
  public:
-  void add(const Vec3& point, const Vec3& normal = Vec3::Constant(kNaN)) {
-    surface_.points.push_back(point);
-    surface_.normals.push_back(normal);
-  }
+  void add(const Vec3& point) { push(point, Vec3::Constant(kNaN)); }
   void add_with_normal(const Vec3& point, const Vec3& normal) {
-    add(point, normal);
+    push(point, normal);
     any_normal_ = true;
   }
+  std::vector<Face>& faces() { return surface_.faces; }
   SurfaceInput finish() {
     if (!any_normal_) surface_.normals.clear();
     return std::move(surface_);
   }
-  std::size_t size() const { return surface_.points.size(); }
-  std::vector<Face>& faces() { return surface_.faces; }
 
  private:
+  void push(const Vec3& point, const Vec3& normal) {
+    surface_.points.push_back(point);
+    surface_.normals.push_back(normal);
+  }
+
   SurfaceInput surface_;
   bool any_normal_ = false;
 };
@@ -223,13 +210,6 @@ std::size_t scalar_size(ScalarType type) {
     default:
       return 8;
   }
-}
-
-bool host_is_little_endian() {
-  const std::uint16_t probe = 1;
-  char first;
-  std::memcpy(&first, &probe, 1);
-  return first == 1;
 }
 
 template <typename T>
@@ -280,34 +260,6 @@ bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swa
       break;
   }
   return true;
-}
-
-// Appends a value in little-endian byte order, whatever the host's.
-template <typename T>
-void append_binary(std::string& out, T value) {
-  char raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof value);
-  if (!host_is_little_endian()) std::reverse(raw, raw + sizeof raw);
-  out.append(raw, sizeof raw);
-}
-
-// Shortest text that reads back to the same double (precision 0), or `precision` digits.
-void append_number(std::string& out, double value, int precision = 0) {
-  char buffer[64];
-  const auto result = precision > 0 ? std::to_chars(buffer, buffer + sizeof buffer, value,
-                                                    std::chars_format::general, precision)
-                                    : std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
-
-void append_numbers(std::string& out, std::initializer_list<double> values, int precision = 0) {
-  bool first = true;
-  for (double value : values) {
-    if (!first) out += ' ';
-    append_number(out, value, precision);
-    first = false;
-  }
-  out += '\n';
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -419,6 +371,9 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
         header.fail("bad header: expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
       if (property.is_list && !parse_ply_type(tokens[2], property.count_type))
         header.fail("bad header: unknown type " + quote(tokens[2]));
+      if (property.is_list && (property.count_type == ScalarType::kFloat32 ||
+                               property.count_type == ScalarType::kFloat64))
+        header.fail("bad header: list length type must be an integer type");
       if (!parse_ply_type(tokens[expected - 2], property.type))
         header.fail("bad header: unknown type " + quote(tokens[expected - 2]));
       property.name = tokens[expected - 1];
@@ -917,148 +872,12 @@ CleanReport clean_surface(SurfaceInput& surface) {
   return report;
 }
 
-void write_file_atomically(const std::string& path, const std::string& contents) {
-  const auto failure = [&](const std::string& reason) {
-    fail(path, "cannot write (" + reason + ")");
-  };
-  // O_EXCL on a random name gives a temporary no one else uses; mode 0666 lets umask decide.
-  std::random_device entropy;
-  std::string temporary;
-  int descriptor = -1;
-  for (int attempt = 0; attempt < 100 && descriptor < 0; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
-    temporary = path + suffix;
-    descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (descriptor < 0 && errno != EEXIST) failure(std::strerror(errno));
-  }
-  if (descriptor < 0) failure("no free temporary name");
-
-  std::string problem;
-  for (std::size_t written = 0; written < contents.size() && problem.empty();) {
-    const ssize_t result =
-        ::write(descriptor, contents.data() + written, contents.size() - written);
-    if (result >= 0)
-      written += static_cast<std::size_t>(result);
-    else if (errno != EINTR)
-      problem = std::strerror(errno);
-  }
-  if (::close(descriptor) != 0 && problem.empty()) problem = std::strerror(errno);
-  if (problem.empty() && std::rename(temporary.c_str(), path.c_str()) != 0)
-    problem = std::strerror(errno);
-  if (!problem.empty()) {
-    ::unlink(temporary.c_str());
-    failure(problem);
-  }
-}
-
-void write_surface(const std::string& path, const SurfaceInput& surface) {
-  const std::string extension = lower_extension(path);
-  const bool normals = surface.has_normals();
-  std::string out;
-  if (extension == ".ply") {
-    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
-          std::to_string(surface.points.size()) + "\nproperty float x\nproperty float y\n" +
-          "property float z\n";
-    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
-    if (surface.is_mesh())
-      out += "element face " + std::to_string(surface.faces.size()) +
-             "\nproperty list uchar int vertex_indices\n";
-    out += "end_header\n";
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(surface.points[i][c]));
-      for (int c = 0; normals && c < 3; ++c)
-        append_binary(out, static_cast<float>(surface.normals[i][c]));
-    }
-    for (const Face& face : surface.faces) {
-      append_binary(out, std::uint8_t{3});
-      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
-    }
-  } else if (extension == ".off") {
-    // Normals are kept only for clouds; a mesh's orientation is given by its faces.
-    const bool noff = normals && !surface.is_mesh();
-    out = std::string(noff ? "NOFF\n" : "OFF\n") + std::to_string(surface.points.size()) + " " +
-          std::to_string(surface.faces.size()) + " 0\n";
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      const Vec3& p = surface.points[i];
-      if (noff) {
-        const Vec3& n = surface.normals[i];
-        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
-      } else {
-        append_numbers(out, {p.x(), p.y(), p.z()});
-      }
-    }
-    for (const Face& face : surface.faces)
-      out += "3 " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
-             std::to_string(face[2]) + "\n";
-  } else if (extension == ".xyz") {
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      const Vec3& p = surface.points[i];
-      if (normals) {
-        const Vec3& n = surface.normals[i];
-        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()}, 9);
-      } else {
-        append_numbers(out, {p.x(), p.y(), p.z()}, 9);
-      }
-    }
-  } else {
-    fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
-  }
-  write_file_atomically(path, out);
-}
-
 MedialMesh read_medial_mesh(const std::string& path) {
   const std::string extension = lower_extension(path);
   if (extension != ".ma" && extension != ".ply")
     fail(path, "unknown medial mesh extension " + quote(extension) + " (expected .ply or .ma)");
   const std::string bytes = read_file(path);
   return extension == ".ma" ? parse_ma(path, bytes) : parse_ply_medial(path, bytes);
-}
-
-void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
-  const std::string extension = lower_extension(path);
-  std::string out;
-  if (extension == ".ply") {
-    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
-          std::to_string(mesh.spheres.size()) +
-          "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\n"
-          "element edge " +
-          std::to_string(mesh.edges.size()) +
-          "\nproperty int vertex1\nproperty int vertex2\nelement face " +
-          std::to_string(mesh.faces.size()) +
-          "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const Sphere& sphere : mesh.spheres) {
-      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(sphere.center[c]));
-      append_binary(out, static_cast<float>(sphere.radius));
-    }
-    for (const auto& edge : mesh.edges)
-      for (int index : edge) append_binary(out, static_cast<std::int32_t>(index));
-    for (const Face& face : mesh.faces) {
-      append_binary(out, std::uint8_t{3});
-      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
-    }
-  } else if (extension == ".ma") {
-    out = std::to_string(mesh.spheres.size()) + " " + std::to_string(mesh.edges.size()) + " " +
-          std::to_string(mesh.faces.size()) + "\n";
-    for (const Sphere& sphere : mesh.spheres) {
-      out += "v ";
-      append_numbers(out, {sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
-    }
-    for (const auto& edge : mesh.edges)
-      out += "e " + std::to_string(edge[0]) + " " + std::to_string(edge[1]) + "\n";
-    for (const Face& face : mesh.faces)
-      out += "f " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
-             std::to_string(face[2]) + "\n";
-  } else {
-    fail(path, "cannot write medial mesh as " + quote(extension) + " (expected .ply or .ma)");
-  }
-  write_file_atomically(path, out);
-}
-
-void write_labels(const std::string& path, const std::vector<int>& labels) {
-  std::string out;
-  for (int label : labels) out += std::to_string(label) + "\n";
-  write_file_atomically(path, out);
 }
 
 }  // namespace vmas

@@ -511,6 +511,50 @@ TEST_F(IoErrors, AtomicWritesLeaveNothingBehind) {
   EXPECT_EQ(text.str(), "short\n");
 }
 
+// Randomly corrupted files must load or throw IoError: never crash, hang or throw anything else.
+TEST_F(IoErrors, CorruptedFilesLoadOrThrowIoError) {
+  SurfaceInput cloud = random_cloud(20, true);
+  write_surface(path("c.ply"), cloud);
+  write_surface(path("c.off"), cloud);
+  write_surface(path("t.ply"), tetrahedron());
+  write_surface(path("t.off"), tetrahedron());
+  MedialMesh medial;
+  medial.spheres = {{Vec3(0, 0, 0), 1}, {Vec3(1, 0, 0), 1}, {Vec3(0, 1, 0), 1}};
+  medial.edges = {{0, 1}, {1, 2}, {2, 0}};
+  medial.faces = {{0, 1, 2}};
+  write_medial_mesh(path("m.ply"), medial);
+  write_medial_mesh(path("m.ma"), medial);
+  write("a.ply",
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n4 0 1 2 3\n");
+  write("o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1/1/1 2//2 3 4\nf -1 -2 -3\n");
+  const char kSpecial[] = {'0', '9', '-', ' ', '\n', '#', '/', 'e', '\0', '\xff'};
+  std::mt19937 rng(11);
+  for (const char* name : {"c.ply", "c.off", "t.ply", "t.off", "m.ply", "m.ma", "a.ply", "o.obj"}) {
+    std::ifstream in(path(name), std::ios::binary);
+    const std::string original((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+    const std::string corrupt = path(std::string("x") + fs::path(name).extension().string());
+    for (int trial = 0; trial < 300; ++trial) {
+      std::string bytes = original;
+      for (int change = 0; change < 1 + trial % 4; ++change) {
+        const std::size_t at = rng() % bytes.size();
+        bytes[at] = rng() % 2 ? kSpecial[rng() % sizeof kSpecial] : static_cast<char>(rng());
+      }
+      if (trial % 5 == 0) bytes.resize(rng() % bytes.size() + 1);
+      std::ofstream(corrupt, std::ios::binary | std::ios::trunc) << bytes;
+      try {
+        if (fs::path(name).stem() == "m")
+          read_medial_mesh(corrupt);
+        else
+          read_surface(corrupt);
+      } catch (const IoError&) {
+      }
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Real files
 
