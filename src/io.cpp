@@ -1,0 +1,1009 @@
+#include "vmas/io.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/io/pcd_io.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string_view>
+
+#include "vmas/error.hpp"
+
+namespace vmas {
+namespace {
+
+using Face = std::array<int, 3>;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw IoError(path + ": " + problem);
+}
+
+// Quotes a token for an error message, keeping the message short and on one printable line.
+std::string quote(std::string_view token) {
+  std::string text(token.substr(0, 40));
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
+  return "'" + text + (token.size() > 40 ? "...'" : "'");
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+// Fails with a clear message for the usual reasons a path cannot be read.
+void check_readable(const std::string& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) fail(path, "no such file");
+  if (std::filesystem::is_directory(status)) fail(path, "is a directory");
+  if (std::filesystem::file_size(path, error) == 0 && !error) fail(path, "empty file");
+}
+
+std::string read_file(const std::string& path) {
+  check_readable(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail(path, "read error");
+  if (bytes.empty()) fail(path, "empty file");
+  return bytes;
+}
+
+bool is_separator(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == ',' || c == '\v' || c == '\f';
+}
+
+std::string_view trim(std::string_view text) {
+  while (!text.empty() && is_separator(text.front())) text.remove_prefix(1);
+  while (!text.empty() && is_separator(text.back())) text.remove_suffix(1);
+  return text;
+}
+
+// The one tokenizer of every text format: yields the tokens (separated by whitespace or commas)
+// of each line holding any, skips '#' comments, and knows the line number for error messages.
+class LineTokenizer {
+ public:
+  LineTokenizer(const std::string& path, std::string_view text, std::size_t lines_before = 0)
+      : path_(path), text_(text), line_(lines_before) {}
+
+  bool next(std::vector<std::string_view>& tokens) {
+    while (position_ < text_.size()) {
+      std::size_t end = text_.find('\n', position_);
+      if (end == std::string_view::npos) end = text_.size();
+      std::string_view line = text_.substr(position_, end - position_);
+      position_ = end + 1;
+      ++line_;
+      line = line.substr(0, line.find('#'));
+      tokens.clear();
+      std::size_t start = 0;
+      while (start < line.size()) {
+        while (start < line.size() && is_separator(line[start])) ++start;
+        std::size_t stop = start;
+        while (stop < line.size() && !is_separator(line[stop])) ++stop;
+        if (stop > start) tokens.push_back(line.substr(start, stop - start));
+        start = stop;
+      }
+      if (!tokens.empty()) return true;
+    }
+    return false;
+  }
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    vmas::fail(path_, "line " + std::to_string(line_) + ": " + problem);
+  }
+
+  double number(std::string_view token) const { return parse<double>(token); }
+  long long integer(std::string_view token) const { return parse<long long>(token); }
+
+  // A count or size: a non-negative integer.
+  std::size_t count(std::string_view token) const {
+    const long long value = integer(token);
+    if (value < 0) fail("negative count " + quote(token));
+    return static_cast<std::size_t>(value);
+  }
+
+  Vec3 vec3(const std::vector<std::string_view>& tokens, std::size_t first) const {
+    return Vec3(number(tokens[first]), number(tokens[first + 1]), number(tokens[first + 2]));
+  }
+
+ private:
+  template <typename T>
+  T parse(std::string_view token) const {
+    std::string_view digits = token;
+    if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);  // from_chars rejects '+'
+    T value{};
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (error == std::errc::result_out_of_range) fail("number out of range " + quote(token));
+    if (error != std::errc() || end != digits.data() + digits.size())
+      fail(std::string(std::is_integral_v<T> ? "expected an integer, found " : "non-numeric token ") +
+           quote(token));
+    return value;
+  }
+
+  const std::string& path_;
+  std::string_view text_;
+  std::size_t position_ = 0;
+  std::size_t line_;
+};
+
+// Converts a stored index to int if it is an integer in [0, count).
+bool to_index(double value, std::size_t count, int& index) {
+  if (!(value >= 0.0 && value < static_cast<double>(count)) || value != std::floor(value))
+    return false;
+  index = static_cast<int>(value);
+  return true;
+}
+
+// Fan-triangulates a polygon into `faces`; returns the problem, or "" when the polygon is valid.
+std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_count,
+                        std::vector<Face>& faces) {
+  if (polygon.size() < 3)
+    return "face with " + std::to_string(polygon.size()) + " vertices (at least 3 needed)";
+  std::vector<int> indices(polygon.size());
+  for (std::size_t k = 0; k < polygon.size(); ++k)
+    if (!to_index(polygon[k], vertex_count, indices[k])) {
+      std::ostringstream problem;
+      problem << "vertex index " << polygon[k] << " out of range (" << vertex_count
+              << " vertices)";
+      return problem.str();
+    }
+  for (std::size_t k = 1; k + 1 < indices.size(); ++k)
+    faces.push_back({indices[0], indices[k], indices[k + 1]});
+  return "";
+}
+
+// Collects points whose normals may be given for some and missing for others. Missing normals
+// become NaN so that clean_surface drops those points; without any normal, none are kept.
+class PointSink {
+ public:
+  void add(const Vec3& point, const Vec3& normal = Vec3::Constant(kNaN)) {
+    surface_.points.push_back(point);
+    surface_.normals.push_back(normal);
+  }
+  void add_with_normal(const Vec3& point, const Vec3& normal) {
+    add(point, normal);
+    any_normal_ = true;
+  }
+  SurfaceInput finish() {
+    if (!any_normal_) surface_.normals.clear();
+    return std::move(surface_);
+  }
+  std::size_t size() const { return surface_.points.size(); }
+  std::vector<Face>& faces() { return surface_.faces; }
+
+ private:
+  SurfaceInput surface_;
+  bool any_normal_ = false;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Binary scalars (PLY bodies, PCD fields)
+
+enum class ScalarType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kInt64, kUint64,
+                        kFloat32, kFloat64 };
+
+std::size_t scalar_size(ScalarType type) {
+  switch (type) {
+    case ScalarType::kInt8: case ScalarType::kUint8: return 1;
+    case ScalarType::kInt16: case ScalarType::kUint16: return 2;
+    case ScalarType::kInt32: case ScalarType::kUint32: case ScalarType::kFloat32: return 4;
+    default: return 8;
+  }
+}
+
+bool host_is_little_endian() {
+  const std::uint16_t probe = 1;
+  char first;
+  std::memcpy(&first, &probe, 1);
+  return first == 1;
+}
+
+template <typename T>
+double load(const char* raw) {
+  T value;
+  std::memcpy(&value, raw, sizeof value);
+  return static_cast<double>(value);
+}
+
+// Reads one value at `cursor` and advances it; false (cursor unchanged) if the data ends first.
+bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swap,
+                 double& value) {
+  const std::size_t size = scalar_size(type);
+  if (static_cast<std::size_t>(end - cursor) < size) return false;
+  char raw[8];
+  std::memcpy(raw, cursor, size);
+  if (swap) std::reverse(raw, raw + size);
+  cursor += size;
+  switch (type) {
+    case ScalarType::kInt8: value = load<std::int8_t>(raw); break;
+    case ScalarType::kUint8: value = load<std::uint8_t>(raw); break;
+    case ScalarType::kInt16: value = load<std::int16_t>(raw); break;
+    case ScalarType::kUint16: value = load<std::uint16_t>(raw); break;
+    case ScalarType::kInt32: value = load<std::int32_t>(raw); break;
+    case ScalarType::kUint32: value = load<std::uint32_t>(raw); break;
+    case ScalarType::kInt64: value = load<std::int64_t>(raw); break;
+    case ScalarType::kUint64: value = load<std::uint64_t>(raw); break;
+    case ScalarType::kFloat32: value = load<float>(raw); break;
+    case ScalarType::kFloat64: value = load<double>(raw); break;
+  }
+  return true;
+}
+
+// Appends a value in little-endian byte order, whatever the host's.
+template <typename T>
+void append_binary(std::string& out, T value) {
+  char raw[sizeof(T)];
+  std::memcpy(raw, &value, sizeof value);
+  if (!host_is_little_endian()) std::reverse(raw, raw + sizeof raw);
+  out.append(raw, sizeof raw);
+}
+
+// Shortest text that reads back to the same double (precision 0), or `precision` digits.
+void append_number(std::string& out, double value, int precision = 0) {
+  char buffer[64];
+  const auto result = precision > 0 ? std::to_chars(buffer, buffer + sizeof buffer, value,
+                                                    std::chars_format::general, precision)
+                                    : std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+void append_numbers(std::string& out, std::initializer_list<double> values, int precision = 0) {
+  bool first = true;
+  for (double value : values) {
+    if (!first) out += ' ';
+    append_number(out, value, precision);
+    first = false;
+  }
+  out += '\n';
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY
+
+bool parse_ply_type(std::string_view name, ScalarType& type) {
+  static const std::pair<std::string_view, ScalarType> kTypes[] = {
+      {"char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},
+      {"uchar", ScalarType::kUint8},   {"uint8", ScalarType::kUint8},
+      {"short", ScalarType::kInt16},   {"int16", ScalarType::kInt16},
+      {"ushort", ScalarType::kUint16}, {"uint16", ScalarType::kUint16},
+      {"int", ScalarType::kInt32},     {"int32", ScalarType::kInt32},
+      {"uint", ScalarType::kUint32},   {"uint32", ScalarType::kUint32},
+      {"float", ScalarType::kFloat32}, {"float32", ScalarType::kFloat32},
+      {"double", ScalarType::kFloat64}, {"float64", ScalarType::kFloat64}};
+  for (const auto& [type_name, value] : kTypes)
+    if (type_name == name) {
+      type = value;
+      return true;
+    }
+  return false;
+}
+
+struct PlyProperty {
+  std::string name;
+  ScalarType type = ScalarType::kFloat32;  // the value type (of each entry, for lists)
+  bool is_list = false;
+  ScalarType count_type = ScalarType::kUint8;
+  // Filled for wanted elements only: one value per item, or for lists every item's entries in
+  // a row, item i owning values[list_starts[i] .. list_starts[i + 1]).
+  std::vector<double> values;
+  std::vector<std::size_t> list_starts{0};
+};
+
+struct PlyElement {
+  std::string name;
+  std::size_t count = 0;
+  std::vector<PlyProperty> properties;
+
+  const PlyProperty* find(std::initializer_list<std::string_view> names) const {
+    for (const PlyProperty& property : properties)
+      for (std::string_view name : names)
+        if (property.name == name) return &property;
+    return nullptr;
+  }
+};
+
+enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+
+struct PlyFile {
+  PlyFormat format = PlyFormat::kAscii;
+  std::vector<PlyElement> elements;
+
+  const PlyElement* find(std::string_view name) const {
+    for (const PlyElement& element : elements)
+      if (element.name == name) return &element;
+    return nullptr;
+  }
+};
+
+// Parses the header; returns the offset of the body and sets `header_lines`.
+std::size_t parse_ply_header(const std::string& path, std::string_view bytes, PlyFile& ply,
+                             std::size_t& header_lines) {
+  if (bytes.substr(0, 3) != "ply" || trim(bytes.substr(0, bytes.find('\n'))) != "ply")
+    fail(path, "bad header: not a PLY file (no 'ply' first line)");
+  std::size_t body = std::string_view::npos;
+  std::size_t end_line_start = 0;
+  header_lines = 0;
+  for (std::size_t position = 0; position < bytes.size();) {
+    const std::size_t end = bytes.find('\n', position);
+    if (end == std::string_view::npos) break;
+    ++header_lines;
+    if (trim(bytes.substr(position, end - position)) == "end_header") {
+      end_line_start = position;
+      body = end + 1;
+      break;
+    }
+    position = end + 1;
+  }
+  if (body == std::string_view::npos) fail(path, "bad header: no end_header line");
+
+  LineTokenizer header(path, bytes.substr(0, end_line_start));
+  std::vector<std::string_view> tokens;
+  header.next(tokens);  // "ply"
+  bool has_format = false;
+  while (header.next(tokens)) {
+    const std::string_view keyword = tokens[0];
+    if (keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "format") {
+      if (tokens.size() < 2) header.fail("bad header: incomplete format line");
+      if (tokens[1] == "ascii") ply.format = PlyFormat::kAscii;
+      else if (tokens[1] == "binary_little_endian") ply.format = PlyFormat::kBinaryLittleEndian;
+      else if (tokens[1] == "binary_big_endian") ply.format = PlyFormat::kBinaryBigEndian;
+      else header.fail("bad header: unknown format " + quote(tokens[1]));
+      has_format = true;
+    } else if (keyword == "element") {
+      if (tokens.size() != 3) header.fail("bad header: expected 'element NAME COUNT'");
+      ply.elements.push_back({std::string(tokens[1]), header.count(tokens[2]), {}});
+    } else if (keyword == "property") {
+      if (ply.elements.empty()) header.fail("bad header: property before any element");
+      PlyProperty property;
+      property.is_list = tokens.size() > 1 && tokens[1] == "list";
+      const std::size_t expected = property.is_list ? 5 : 3;
+      if (tokens.size() != expected)
+        header.fail("bad header: expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
+      if (property.is_list && !parse_ply_type(tokens[2], property.count_type))
+        header.fail("bad header: unknown type " + quote(tokens[2]));
+      if (!parse_ply_type(tokens[expected - 2], property.type))
+        header.fail("bad header: unknown type " + quote(tokens[expected - 2]));
+      property.name = tokens[expected - 1];
+      ply.elements.back().properties.push_back(std::move(property));
+    } else {
+      header.fail("bad header: unknown keyword " + quote(keyword));
+    }
+  }
+  if (!has_format) fail(path, "bad header: no format line");
+  for (const PlyElement& element : ply.elements)
+    if (element.properties.empty() && element.count > 0)
+      fail(path, "bad header: element '" + element.name + "' has no properties");
+  return body;
+}
+
+[[noreturn]] void fail_truncated(const std::string& path, const PlyElement& element,
+                                 std::size_t item) {
+  fail(path, "truncated: element '" + element.name + "' ends after " + std::to_string(item) +
+                 " of " + std::to_string(element.count) + " items");
+}
+
+// Reads a PLY file; only the elements named in `wanted` get their values stored.
+PlyFile read_ply(const std::string& path, std::string_view bytes,
+                 std::initializer_list<std::string_view> wanted) {
+  PlyFile ply;
+  std::size_t header_lines = 0;
+  const std::size_t body = parse_ply_header(path, bytes, ply, header_lines);
+  const auto is_wanted = [&](const PlyElement& element) {
+    return std::find(wanted.begin(), wanted.end(), element.name) != wanted.end();
+  };
+
+  if (ply.format != PlyFormat::kAscii) {
+    const bool big_endian = ply.format == PlyFormat::kBinaryBigEndian;
+    const bool swap = big_endian == host_is_little_endian();
+    const char* cursor = bytes.data() + body;
+    const char* const end = bytes.data() + bytes.size();
+    for (PlyElement& element : ply.elements) {
+      const bool keep = is_wanted(element);
+      for (std::size_t item = 0; item < element.count; ++item) {
+        for (PlyProperty& property : element.properties) {
+          double value = 0.0;
+          if (!read_scalar(cursor, end, property.is_list ? property.count_type : property.type,
+                           swap, value))
+            fail_truncated(path, element, item);
+          if (!property.is_list) {
+            if (keep) property.values.push_back(value);
+            continue;
+          }
+          const std::size_t size = scalar_size(property.type);
+          if (!(value >= 0.0)) fail(path, "negative list length in element '" + element.name + "'");
+          if (value > static_cast<double>(end - cursor) / size) fail_truncated(path, element, item);
+          const auto length = static_cast<std::size_t>(value);
+          if (!keep) {
+            cursor += length * size;
+            continue;
+          }
+          for (std::size_t k = 0; k < length; ++k) {
+            read_scalar(cursor, end, property.type, swap, value);
+            property.values.push_back(value);
+          }
+          property.list_starts.push_back(property.values.size());
+        }
+      }
+    }
+    return ply;
+  }
+
+  LineTokenizer lines(path, bytes.substr(body), header_lines);
+  std::vector<std::string_view> tokens;
+  for (PlyElement& element : ply.elements) {
+    const bool keep = is_wanted(element);
+    for (std::size_t item = 0; item < element.count; ++item) {
+      if (!lines.next(tokens)) fail_truncated(path, element, item);
+      std::size_t next = 0;
+      const auto take = [&]() {
+        if (next >= tokens.size())
+          lines.fail("too few values for an item of element '" + element.name + "'");
+        return tokens[next++];
+      };
+      for (PlyProperty& property : element.properties) {
+        if (!property.is_list) {
+          const std::string_view token = take();
+          if (keep) property.values.push_back(lines.number(token));
+          continue;
+        }
+        const std::size_t length = lines.count(take());
+        for (std::size_t k = 0; k < length; ++k) {
+          const std::string_view token = take();
+          if (keep) property.values.push_back(lines.number(token));
+        }
+        if (keep) property.list_starts.push_back(property.values.size());
+      }
+      if (next != tokens.size())
+        lines.fail("too many values for an item of element '" + element.name + "'");
+    }
+  }
+  return ply;
+}
+
+// The column of a scalar vertex property, or a failure naming it.
+const std::vector<double>& ply_column(const std::string& path, const PlyElement& element,
+                                      std::initializer_list<std::string_view> names) {
+  const PlyProperty* property = element.find(names);
+  if (!property || property->is_list)
+    fail(path, "element '" + element.name + "' has no scalar property '" +
+                   std::string(*names.begin()) + "'");
+  return property->values;
+}
+
+std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply,
+                            std::size_t vertex_count) {
+  std::vector<Face> faces;
+  const PlyElement* element = ply.find("face");
+  if (!element || element->count == 0) return faces;
+  const PlyProperty* indices = element->find({"vertex_indices", "vertex_index"});
+  if (!indices || !indices->is_list) fail(path, "element 'face' has no vertex_indices list");
+  for (std::size_t i = 0; i < element->count; ++i) {
+    const std::vector<double> polygon(indices->values.begin() + indices->list_starts[i],
+                                      indices->values.begin() + indices->list_starts[i + 1]);
+    const std::string problem = add_polygon(polygon, vertex_count, faces);
+    if (!problem.empty()) fail(path, "face " + std::to_string(i) + ": " + problem);
+  }
+  return faces;
+}
+
+SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) {
+  const PlyFile ply = read_ply(path, bytes, {"vertex", "face"});
+  const PlyElement* vertex = ply.find("vertex");
+  if (!vertex) fail(path, "no 'vertex' element");
+  const auto& x = ply_column(path, *vertex, {"x"});
+  const auto& y = ply_column(path, *vertex, {"y"});
+  const auto& z = ply_column(path, *vertex, {"z"});
+  const bool has_normals = vertex->find({"nx"}) && vertex->find({"ny"}) && vertex->find({"nz"});
+  SurfaceInput surface;
+  for (std::size_t i = 0; i < vertex->count; ++i) surface.points.emplace_back(x[i], y[i], z[i]);
+  if (has_normals) {
+    const auto& nx = ply_column(path, *vertex, {"nx"});
+    const auto& ny = ply_column(path, *vertex, {"ny"});
+    const auto& nz = ply_column(path, *vertex, {"nz"});
+    for (std::size_t i = 0; i < vertex->count; ++i) surface.normals.emplace_back(nx[i], ny[i], nz[i]);
+  }
+  surface.faces = ply_faces(path, ply, vertex->count);
+  return surface;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF, OBJ, XYZ, PCD
+
+SurfaceInput parse_off(const std::string& path, std::string_view text) {
+  LineTokenizer lines(path, text);
+  std::vector<std::string_view> tokens;
+  if (!lines.next(tokens)) fail(path, "bad header: no OFF line");
+  const std::string_view keyword = tokens[0];
+  if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF")
+    lines.fail("bad header: expected OFF, NOFF or COFF, found " + quote(keyword));
+  // NOFF promises a normal after each vertex; files that say NOFF but give none load without.
+  const bool normals_announced = keyword.substr(0, keyword.size() - 3).find('N') != std::string_view::npos;
+  std::size_t first = 1;
+  if (tokens.size() == 1) {
+    if (!lines.next(tokens)) fail(path, "bad header: no vertex and face counts");
+    first = 0;
+  }
+  if (tokens.size() < first + 2) lines.fail("bad header: expected vertex and face counts");
+  const std::size_t vertex_count = lines.count(tokens[first]);
+  const std::size_t face_count = lines.count(tokens[first + 1]);
+
+  PointSink sink;
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    if (!lines.next(tokens))
+      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(vertex_count) +
+                     " vertices");
+    if (tokens.size() < 3) lines.fail("expected x y z");
+    if (normals_announced && tokens.size() >= 6)
+      sink.add_with_normal(lines.vec3(tokens, 0), lines.vec3(tokens, 3));
+    else
+      sink.add(lines.vec3(tokens, 0));
+  }
+  std::vector<double> polygon;
+  for (std::size_t i = 0; i < face_count; ++i) {
+    if (!lines.next(tokens))
+      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(face_count) +
+                     " faces");
+    const std::size_t size = lines.count(tokens[0]);
+    if (size > tokens.size() - 1) lines.fail("face lists fewer indices than its size");
+    polygon.clear();
+    for (std::size_t k = 1; k <= size; ++k) polygon.push_back(lines.integer(tokens[k]));
+    const std::string problem = add_polygon(polygon, vertex_count, sink.faces());
+    if (!problem.empty()) lines.fail(problem);
+  }
+  return sink.finish();
+}
+
+SurfaceInput parse_obj(const std::string& path, std::string_view text) {
+  LineTokenizer lines(path, text);
+  std::vector<std::string_view> tokens;
+  SurfaceInput surface;
+  std::vector<double> polygon;
+  while (lines.next(tokens)) {
+    const std::string_view keyword = tokens[0];
+    if (keyword == "v" || keyword == "vn") {
+      if (tokens.size() < 4) lines.fail("expected 3 coordinates after " + quote(keyword));
+      (keyword == "v" ? surface.points : surface.normals).push_back(lines.vec3(tokens, 1));
+    } else if (keyword == "f") {
+      // A bare "f" (trimesh writes one for point clouds) holds no face.
+      if (tokens.size() == 1) continue;
+      polygon.clear();
+      for (std::size_t k = 1; k < tokens.size(); ++k) {
+        const std::string_view token = tokens[k];
+        const long long index = lines.integer(token.substr(0, token.find('/')));
+        if (index == 0) lines.fail("vertex index 0 (OBJ indices start at 1)");
+        // Negative indices count back from the last vertex read so far.
+        polygon.push_back(static_cast<double>(
+            index < 0 ? static_cast<long long>(surface.points.size()) + index : index - 1));
+      }
+      const std::string problem = add_polygon(polygon, surface.points.size(), surface.faces);
+      if (!problem.empty()) lines.fail(problem);
+    }
+  }
+  // Normals can be matched to points only in a cloud listing exactly one per point.
+  if (surface.is_mesh() || surface.normals.size() != surface.points.size())
+    surface.normals.clear();
+  return surface;
+}
+
+SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
+  LineTokenizer lines(path, text);
+  std::vector<std::string_view> tokens;
+  PointSink sink;
+  while (lines.next(tokens)) {
+    if (tokens.size() == 3)
+      sink.add(lines.vec3(tokens, 0));
+    else if (tokens.size() == 6)
+      sink.add_with_normal(lines.vec3(tokens, 0), lines.vec3(tokens, 3));
+    else
+      lines.fail("expected 3 or 6 columns (x y z [nx ny nz]), found " +
+                 std::to_string(tokens.size()));
+  }
+  return sink.finish();
+}
+
+SurfaceInput read_pcd(const std::string& path) {
+  check_readable(path);
+  pcl::PCLPointCloud2 cloud;
+  int status = -1;
+  try {
+    status = pcl::PCDReader().read(path, cloud);
+  } catch (const std::exception& error) {
+    std::string what = error.what();
+    fail(path, "malformed PCD file (" + what.substr(0, what.find('\n')) + ")");
+  }
+  if (status < 0) fail(path, "malformed or truncated PCD file");
+
+  struct Column {
+    std::size_t offset = 0;
+    ScalarType type = ScalarType::kFloat32;
+  };
+  const auto column = [&](const std::string& name, Column& result) {
+    for (const pcl::PCLPointField& field : cloud.fields) {
+      if (field.name != name) continue;
+      using F = pcl::PCLPointField;
+      static const std::pair<int, ScalarType> kTypes[] = {
+          {F::INT8, ScalarType::kInt8},     {F::UINT8, ScalarType::kUint8},
+          {F::INT16, ScalarType::kInt16},   {F::UINT16, ScalarType::kUint16},
+          {F::INT32, ScalarType::kInt32},   {F::UINT32, ScalarType::kUint32},
+          {F::INT64, ScalarType::kInt64},   {F::UINT64, ScalarType::kUint64},
+          {F::FLOAT32, ScalarType::kFloat32}, {F::FLOAT64, ScalarType::kFloat64}};
+      for (const auto& [datatype, type] : kTypes)
+        if (field.datatype == datatype) result = {field.offset, type};
+      if (result.offset + scalar_size(result.type) > cloud.point_step)
+        fail(path, "PCD field '" + name + "' lies outside its point");
+      return true;
+    }
+    return false;
+  };
+  Column columns[6];
+  const char* const kNames[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+  bool found[6];
+  for (int c = 0; c < 6; ++c) found[c] = column(kNames[c], columns[c]);
+  if (!found[0] || !found[1] || !found[2]) fail(path, "PCD file has no x, y, z fields");
+  const bool has_normals = found[3] && found[4] && found[5];
+
+  const std::size_t row_end = std::size_t{cloud.width} * cloud.point_step;
+  if (cloud.height > 0 && cloud.width > 0 &&
+      (std::size_t{cloud.height} - 1) * cloud.row_step + row_end > cloud.data.size())
+    fail(path, "truncated: PCD data smaller than its header announces");
+  const char* const data = reinterpret_cast<const char*>(cloud.data.data());
+  const bool swap = cloud.is_bigendian == host_is_little_endian();
+  SurfaceInput surface;
+  for (std::size_t row = 0; row < cloud.height; ++row)
+    for (std::size_t col = 0; col < cloud.width; ++col) {
+      const char* point = data + row * cloud.row_step + col * cloud.point_step;
+      double values[6] = {0, 0, 0, 0, 0, 0};
+      for (int c = 0; c < (has_normals ? 6 : 3); ++c) {
+        const char* cursor = point + columns[c].offset;
+        read_scalar(cursor, cursor + scalar_size(columns[c].type), columns[c].type, swap,
+                    values[c]);
+      }
+      surface.points.emplace_back(values[0], values[1], values[2]);
+      if (has_normals) surface.normals.emplace_back(values[3], values[4], values[5]);
+    }
+  return surface;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Medial meshes
+
+MedialMesh parse_ma(const std::string& path, std::string_view text) {
+  LineTokenizer lines(path, text);
+  std::vector<std::string_view> tokens;
+  if (!lines.next(tokens) || tokens.size() < 3)
+    fail(path, "bad header: expected 'vertex_count edge_count face_count'");
+  const std::size_t counts[3] = {lines.count(tokens[0]), lines.count(tokens[1]),
+                                 lines.count(tokens[2])};
+  MedialMesh mesh;
+  const auto index = [&](std::string_view token) {
+    int value = 0;
+    if (!to_index(static_cast<double>(lines.integer(token)), counts[0], value))
+      lines.fail("vertex index " + std::string(token) + " out of range (" +
+                 std::to_string(counts[0]) + " vertices)");
+    return value;
+  };
+  while (lines.next(tokens)) {
+    const std::string_view kind = tokens[0];
+    const std::size_t needed = kind == "v" ? 5 : kind == "e" ? 3 : kind == "f" ? 4 : 0;
+    if (needed == 0) lines.fail("unknown record " + quote(kind) + " (expected v, e or f)");
+    if (tokens.size() < needed) lines.fail("expected " + std::to_string(needed - 1) + " values");
+    if (kind == "v") {
+      const Sphere sphere{lines.vec3(tokens, 1), lines.number(tokens[4])};
+      if (!sphere.center.allFinite() || !std::isfinite(sphere.radius))
+        lines.fail("non-finite sphere");
+      mesh.spheres.push_back(sphere);
+    } else if (kind == "e") {
+      mesh.edges.push_back({index(tokens[1]), index(tokens[2])});
+    } else {
+      mesh.faces.push_back({index(tokens[1]), index(tokens[2]), index(tokens[3])});
+    }
+  }
+  const std::size_t found[3] = {mesh.spheres.size(), mesh.edges.size(), mesh.faces.size()};
+  const char* const kNames[3] = {"vertices", "edges", "faces"};
+  for (int k = 0; k < 3; ++k)
+    if (found[k] != counts[k])
+      fail(path, "header announces " + std::to_string(counts[k]) + " " + kNames[k] + " but " +
+                     std::to_string(found[k]) + " were found");
+  return mesh;
+}
+
+MedialMesh parse_ply_medial(const std::string& path, std::string_view bytes) {
+  const PlyFile ply = read_ply(path, bytes, {"vertex", "edge", "face"});
+  const PlyElement* vertex = ply.find("vertex");
+  if (!vertex) fail(path, "no 'vertex' element");
+  const auto& x = ply_column(path, *vertex, {"x"});
+  const auto& y = ply_column(path, *vertex, {"y"});
+  const auto& z = ply_column(path, *vertex, {"z"});
+  const auto& radius = ply_column(path, *vertex, {"radius", "r"});
+  MedialMesh mesh;
+  for (std::size_t i = 0; i < vertex->count; ++i) {
+    const Sphere sphere{Vec3(x[i], y[i], z[i]), radius[i]};
+    if (!sphere.center.allFinite() || !std::isfinite(sphere.radius))
+      fail(path, "vertex " + std::to_string(i) + ": non-finite sphere");
+    mesh.spheres.push_back(sphere);
+  }
+  if (const PlyElement* edge = ply.find("edge"); edge && edge->count > 0) {
+    const auto& first = ply_column(path, *edge, {"vertex1"});
+    const auto& second = ply_column(path, *edge, {"vertex2"});
+    for (std::size_t i = 0; i < edge->count; ++i) {
+      std::array<int, 2> ends{};
+      if (!to_index(first[i], vertex->count, ends[0]) ||
+          !to_index(second[i], vertex->count, ends[1]))
+        fail(path, "edge " + std::to_string(i) + ": vertex index out of range (" +
+                       std::to_string(vertex->count) + " vertices)");
+      mesh.edges.push_back(ends);
+    }
+  }
+  mesh.faces = ply_faces(path, ply, vertex->count);
+  return mesh;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Public functions
+
+SurfaceInput read_surface(const std::string& path, CleanReport* report) {
+  const std::string extension = lower_extension(path);
+  SurfaceInput surface;
+  if (extension == ".pcd") {
+    surface = read_pcd(path);
+  } else if (extension == ".off" || extension == ".ply" || extension == ".obj" ||
+             extension == ".xyz" || extension == ".txt") {
+    const std::string bytes = read_file(path);
+    if (extension == ".off") surface = parse_off(path, bytes);
+    else if (extension == ".ply") surface = parse_ply_surface(path, bytes);
+    else if (extension == ".obj") surface = parse_obj(path, bytes);
+    else surface = parse_xyz(path, bytes);
+  } else {
+    fail(path, "unknown file extension " + quote(extension) +
+                   " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
+  }
+  if (surface.points.empty()) fail(path, "no points");
+  const CleanReport cleaned = clean_surface(surface);
+  if (surface.points.empty()) fail(path, "no usable points");
+  if (report) *report = cleaned;
+  return surface;
+}
+
+CleanReport clean_surface(SurfaceInput& surface) {
+  CleanReport report;
+  const std::size_t count = surface.points.size();
+  const bool with_normals = surface.has_normals();
+  if (with_normals && surface.normals.size() != count)
+    throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
+                       std::to_string(count) + " points");
+  const auto& points = surface.points;
+
+  std::vector<std::size_t> usable;
+  for (std::size_t i = 0; i < count; ++i) {
+    const bool finite =
+        points[i].allFinite() &&
+        (!with_normals || (surface.normals[i].allFinite() && surface.normals[i].norm() > 0.0));
+    if (finite) usable.push_back(i);
+    else ++report.non_finite_points;
+  }
+
+  // Sorting by coordinates, then by index, makes the first occurrence of each point its
+  // representative, independently of any hashing.
+  constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> representative(count, kDropped);
+  std::sort(usable.begin(), usable.end(), [&](std::size_t a, std::size_t b) {
+    for (int c = 0; c < 3; ++c)
+      if (points[a][c] != points[b][c]) return points[a][c] < points[b][c];
+    return a < b;
+  });
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = -low;
+  for (std::size_t k = 0; k < usable.size(); ++k) {
+    const std::size_t i = usable[k];
+    const bool duplicate = k > 0 && points[i] == points[usable[k - 1]];
+    representative[i] = duplicate ? representative[usable[k - 1]] : i;
+    if (duplicate) ++report.duplicate_points;
+    low = low.cwiseMin(points[i]);
+    high = high.cwiseMax(points[i]);
+  }
+
+  const double min_area = usable.empty() ? 0.0 : 1e-14 * (high - low).squaredNorm();
+  std::vector<std::array<std::size_t, 3>> faces;
+  std::vector<bool> referenced(count, false);
+  for (const Face& face : surface.faces) {
+    std::array<std::size_t, 3> corners{};
+    bool degenerate = false;
+    for (int c = 0; c < 3; ++c) {
+      corners[c] = face[c] >= 0 && static_cast<std::size_t>(face[c]) < count
+                       ? representative[face[c]]
+                       : kDropped;
+      degenerate = degenerate || corners[c] == kDropped;
+    }
+    degenerate = degenerate || corners[0] == corners[1] || corners[1] == corners[2] ||
+                 corners[0] == corners[2] ||
+                 0.5 * (points[corners[1]] - points[corners[0]])
+                             .cross(points[corners[2]] - points[corners[0]])
+                             .norm() < min_area;
+    if (degenerate) {
+      ++report.degenerate_faces;
+      continue;
+    }
+    faces.push_back(corners);
+    for (std::size_t corner : corners) referenced[corner] = true;
+  }
+
+  const bool mesh = surface.is_mesh();
+  std::vector<int> new_index(count, -1);
+  SurfaceInput cleaned;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (representative[i] != i) continue;
+    if (mesh && !referenced[i]) {
+      ++report.unused_points;
+      continue;
+    }
+    new_index[i] = static_cast<int>(cleaned.points.size());
+    cleaned.points.push_back(points[i]);
+    if (with_normals) cleaned.normals.push_back(surface.normals[i].normalized());
+  }
+  for (const auto& corners : faces)
+    cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});
+  surface = std::move(cleaned);
+  return report;
+}
+
+void write_file_atomically(const std::string& path, const std::string& contents) {
+  const auto failure = [&](const std::string& reason) {
+    fail(path, "cannot write (" + reason + ")");
+  };
+  // O_EXCL on a random name gives a temporary no one else uses; mode 0666 lets umask decide.
+  std::random_device entropy;
+  std::string temporary;
+  int descriptor = -1;
+  for (int attempt = 0; attempt < 100 && descriptor < 0; ++attempt) {
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
+    temporary = path + suffix;
+    descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (descriptor < 0 && errno != EEXIST) failure(std::strerror(errno));
+  }
+  if (descriptor < 0) failure("no free temporary name");
+
+  std::string problem;
+  for (std::size_t written = 0; written < contents.size() && problem.empty();) {
+    const ssize_t result =
+        ::write(descriptor, contents.data() + written, contents.size() - written);
+    if (result >= 0) written += static_cast<std::size_t>(result);
+    else if (errno != EINTR) problem = std::strerror(errno);
+  }
+  if (::close(descriptor) != 0 && problem.empty()) problem = std::strerror(errno);
+  if (problem.empty() && std::rename(temporary.c_str(), path.c_str()) != 0)
+    problem = std::strerror(errno);
+  if (!problem.empty()) {
+    ::unlink(temporary.c_str());
+    failure(problem);
+  }
+}
+
+void write_surface(const std::string& path, const SurfaceInput& surface) {
+  const std::string extension = lower_extension(path);
+  const bool normals = surface.has_normals();
+  std::string out;
+  if (extension == ".ply") {
+    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
+          std::to_string(surface.points.size()) + "\nproperty float x\nproperty float y\n" +
+          "property float z\n";
+    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (surface.is_mesh())
+      out += "element face " + std::to_string(surface.faces.size()) +
+             "\nproperty list uchar int vertex_indices\n";
+    out += "end_header\n";
+    for (std::size_t i = 0; i < surface.points.size(); ++i) {
+      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(surface.points[i][c]));
+      for (int c = 0; normals && c < 3; ++c)
+        append_binary(out, static_cast<float>(surface.normals[i][c]));
+    }
+    for (const Face& face : surface.faces) {
+      append_binary(out, std::uint8_t{3});
+      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
+    }
+  } else if (extension == ".off") {
+    // Normals are kept only for clouds; a mesh's orientation is given by its faces.
+    const bool noff = normals && !surface.is_mesh();
+    out = std::string(noff ? "NOFF\n" : "OFF\n") + std::to_string(surface.points.size()) + " " +
+          std::to_string(surface.faces.size()) + " 0\n";
+    for (std::size_t i = 0; i < surface.points.size(); ++i) {
+      const Vec3& p = surface.points[i];
+      if (noff) {
+        const Vec3& n = surface.normals[i];
+        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
+      } else {
+        append_numbers(out, {p.x(), p.y(), p.z()});
+      }
+    }
+    for (const Face& face : surface.faces)
+      out += "3 " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
+             std::to_string(face[2]) + "\n";
+  } else if (extension == ".xyz") {
+    for (std::size_t i = 0; i < surface.points.size(); ++i) {
+      const Vec3& p = surface.points[i];
+      if (normals) {
+        const Vec3& n = surface.normals[i];
+        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()}, 9);
+      } else {
+        append_numbers(out, {p.x(), p.y(), p.z()}, 9);
+      }
+    }
+  } else {
+    fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
+  }
+  write_file_atomically(path, out);
+}
+
+MedialMesh read_medial_mesh(const std::string& path) {
+  const std::string extension = lower_extension(path);
+  if (extension != ".ma" && extension != ".ply")
+    fail(path, "unknown medial mesh extension " + quote(extension) + " (expected .ply or .ma)");
+  const std::string bytes = read_file(path);
+  return extension == ".ma" ? parse_ma(path, bytes) : parse_ply_medial(path, bytes);
+}
+
+void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
+  const std::string extension = lower_extension(path);
+  std::string out;
+  if (extension == ".ply") {
+    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
+          std::to_string(mesh.spheres.size()) +
+          "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\n"
+          "element edge " + std::to_string(mesh.edges.size()) +
+          "\nproperty int vertex1\nproperty int vertex2\nelement face " +
+          std::to_string(mesh.faces.size()) +
+          "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Sphere& sphere : mesh.spheres) {
+      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(sphere.center[c]));
+      append_binary(out, static_cast<float>(sphere.radius));
+    }
+    for (const auto& edge : mesh.edges)
+      for (int index : edge) append_binary(out, static_cast<std::int32_t>(index));
+    for (const Face& face : mesh.faces) {
+      append_binary(out, std::uint8_t{3});
+      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
+    }
+  } else if (extension == ".ma") {
+    out = std::to_string(mesh.spheres.size()) + " " + std::to_string(mesh.edges.size()) + " " +
+          std::to_string(mesh.faces.size()) + "\n";
+    for (const Sphere& sphere : mesh.spheres) {
+      out += "v ";
+      append_numbers(out, {sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
+    }
+    for (const auto& edge : mesh.edges)
+      out += "e " + std::to_string(edge[0]) + " " + std::to_string(edge[1]) + "\n";
+    for (const Face& face : mesh.faces)
+      out += "f " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
+             std::to_string(face[2]) + "\n";
+  } else {
+    fail(path, "cannot write medial mesh as " + quote(extension) + " (expected .ply or .ma)");
+  }
+  write_file_atomically(path, out);
+}
+
+void write_labels(const std::string& path, const std::vector<int>& labels) {
+  std::string out;
+  for (int label : labels) out += std::to_string(label) + "\n";
+  write_file_atomically(path, out);
+}
+
+}  // namespace vmas
