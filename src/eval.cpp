@@ -96,9 +96,10 @@ struct Slab {
     d00 = e1.squaredNorm();
     d01 = e1.dot(e2);
     d11 = e2.squaredNorm();
-    det = d00 * d11 - d01 * d01;
-    // Collinear centres: the minimum is always on an edge.
-    if (!(det > 1e-18 * d00 * d11)) return;
+    const Vec3 cross = e1.cross(e2);
+    det = cross.squaredNorm();  // = d00 * d11 - d01^2, without the cancellation
+    // (Nearly) collinear centres: the minimum is on an edge.
+    if (!(det > 1e-12 * d00 * d11)) return;
     const double dr1 = s1.radius - r0, dr2 = s2.radius - r0;
     gradient = ((d11 * dr1 - d01 * dr2) * e1 + (d00 * dr2 - d01 * dr1) * e2) / det;
     const double g2 = gradient.squaredNorm();
@@ -106,7 +107,7 @@ struct Slab {
     if (g2 >= 1.0) return;
     has_planes = true;
     s = std::sqrt(1.0 - g2);
-    normal = e1.cross(e2).normalized();
+    normal = cross.normalized();
     const std::array<const Sphere*, 3> spheres{&s0, &s1, &s2};
     for (int i = 0; i < 3; ++i) {
       const Sphere& sphere = *spheres[i];
@@ -126,8 +127,8 @@ struct Slab {
         return s * std::abs(height) - (r0 + gradient.dot(in_plane - c0));
       }
     }
-    return std::min({cones[0].signed_distance(p), cones[1].signed_distance(p),
-                     cones[2].signed_distance(p)});
+    return std::min(
+        {cones[0].signed_distance(p), cones[1].signed_distance(p), cones[2].signed_distance(p)});
   }
 
   Box box() const { return cones[0].box().extend(cones[1].box()).extend(cones[2].box()); }
@@ -221,10 +222,9 @@ class Bvh {
     int axis = 0;
     centers.sizes().maxCoeff(&axis);
     const int middle = (begin + end) / 2;
-    std::nth_element(items_.begin() + begin, items_.begin() + middle, items_.begin() + end,
-                     [&](int i, int j) {
-                       return boxes_[i].center()[axis] < boxes_[j].center()[axis];
-                     });
+    std::nth_element(
+        items_.begin() + begin, items_.begin() + middle, items_.begin() + end,
+        [&](int i, int j) { return boxes_[i].center()[axis] < boxes_[j].center()[axis]; });
     const int children = static_cast<int>(nodes_.size());
     nodes_[index].first = children;
     nodes_.resize(nodes_.size() + 2);
@@ -295,7 +295,8 @@ class Envelope {
       }
     }
     // Boundary pieces: sphere surfaces, cone surfaces, tangent triangles.
-    piece_boxes_.assign(solid_boxes_.begin(), solid_boxes_.begin() + spheres_.size() + cones_.size());
+    piece_boxes_.assign(solid_boxes_.begin(),
+                        solid_boxes_.begin() + spheres_.size() + cones_.size());
     for (const auto& t : triangles_) {
       piece_boxes_.push_back(Box(t[0]).extend(t[1]).extend(t[2]));
     }
@@ -333,9 +334,8 @@ class Envelope {
 #pragma omp parallel for schedule(dynamic, 4096)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       const Vec3& p = points[i];
-      visible[i] = !solid_tree_->any_containing(p, [&](int id) {
-        return id != owners[i] && solid_signed_distance(id, p) < -tolerance;
-      });
+      visible[i] = !solid_tree_->any_containing(
+          p, [&](int id) { return id != owners[i] && solid_signed_distance(id, p) < -tolerance; });
     }
     std::vector<Vec3> result;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -392,8 +392,8 @@ class Envelope {
 
   static void sample_triangle(const std::array<Vec3, 3>& t, double spacing, int owner,
                               std::vector<Vec3>& points, std::vector<int>& owners) {
-    const double longest = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(),
-                                     (t[0] - t[2]).norm()});
+    const double longest =
+        std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
     const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; i + j <= n; ++j) {
@@ -441,11 +441,11 @@ std::vector<Vec3> surface_samples(const SurfaceInput& shape, int count, unsigned
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (int i = 0; i < count; ++i) {
     const double pick = uniform(rng) * total;
-    const auto face = std::min(
-        static_cast<std::size_t>(std::upper_bound(cumulative_area.begin(), cumulative_area.end(),
-                                                  pick) -
-                                 cumulative_area.begin()),
-        shape.faces.size() - 1);
+    const auto face =
+        std::min(static_cast<std::size_t>(
+                     std::upper_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
+                     cumulative_area.begin()),
+                 shape.faces.size() - 1);
     const auto& f = shape.faces[face];
     const double r = std::sqrt(uniform(rng)), t = uniform(rng);
     samples.push_back((1.0 - r) * shape.points[f[0]] + r * (1.0 - t) * shape.points[f[1]] +
@@ -569,8 +569,8 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
     throw InvalidInput("shape has a non-finite coordinate or no extent");
   }
 
-  const int random_count = options.surface_samples < 0 ? static_cast<int>(shape.points.size())
-                                                       : options.surface_samples;
+  const int random_count =
+      options.surface_samples < 0 ? static_cast<int>(shape.points.size()) : options.surface_samples;
   const std::vector<Vec3> samples = surface_samples(shape, random_count, options.seed);
   std::vector<double> to_medial(samples.size());
   const auto count = static_cast<std::ptrdiff_t>(samples.size());

@@ -37,7 +37,7 @@ struct EvalResult {
   double surface_to_medial_mean = 0.0;
   double medial_to_surface_max = 0.0;
   double medial_to_surface_mean = 0.0;
-  double hausdorff = 0.0;  // max of the two one-sided maxima
+  double hausdorff = 0.0;                 // max of the two one-sided maxima
   std::size_t surface_sample_count = 0;   // input points + random surface samples
   std::size_t boundary_sample_count = 0;  // visible samples on the primitives' boundaries
   // Surface -> medial distance of every input point (for colour maps).
