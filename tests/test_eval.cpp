@@ -343,7 +343,9 @@ TEST(Eval, PointInsideAPrimitiveMeasuresToItsBoundary) {
   cloud.points = {Vec3(0.2, 0, 0), Vec3(-0.5, 0, 0)};
   MedialMesh medial;
   medial.spheres = {{Vec3::Zero(), 1.0}};
-  const EvalResult result = evaluate(cloud, medial);
+  EvalOptions options;
+  options.boundary_spacing = 0.01;  // the diagonal is small against the sphere
+  const EvalResult result = evaluate(cloud, medial, options);
   ASSERT_EQ(result.vertex_error.size(), 2u);
   EXPECT_NEAR(result.vertex_error[0], 0.8, 1e-12);
   EXPECT_NEAR(result.vertex_error[1], 0.5, 1e-12);
