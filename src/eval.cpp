@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <random>
 #include <string>
@@ -19,6 +20,8 @@ namespace {
 using Box = Eigen::AlignedBox3d;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
+// Boundary samples around which the medial -> surface maximum is refined, per round.
+constexpr std::size_t kRefinedSamples = 256;
 
 Box sphere_box(const Vec3& center, double radius) {
   const Vec3 extent = Vec3::Constant(radius);
@@ -261,6 +264,13 @@ void check_medial(const MedialMesh& medial) {
   for (std::size_t f = 0; f < medial.faces.size(); ++f) check(medial.faces[f].data(), 3, "face", f);
 }
 
+// Points on the boundaries of the primitives, with the boundary piece of each: sphere i, then
+// cone j (after the spheres), then tangent triangle k (after the cones).
+struct BoundarySamples {
+  std::vector<Vec3> points;
+  std::vector<int> pieces;
+};
+
 // The reconstruction: its primitives as solids (for "is this point hidden") and the pieces of
 // their boundaries (for "how far is this point from a boundary"). Solid ids: spheres, then cones
 // (all edges, face edges included, deduplicated), then slabs.
@@ -318,33 +328,108 @@ class Envelope {
     });
   }
 
-  std::vector<Vec3> visible_samples(double spacing, double tolerance) const {
-    std::vector<Vec3> points;
-    std::vector<int> owners;  // solid whose boundary the sample is on
+  // Samples `spacing` apart on every boundary piece (sphere, cone lateral surface, tangent
+  // triangle), with the piece each lies on; hidden ones included.
+  BoundarySamples sample_boundaries(double spacing) const {
+    BoundarySamples samples;
     const int spheres = static_cast<int>(spheres_.size());
     const int cones = static_cast<int>(cones_.size());
-    for (int i = 0; i < spheres; ++i) sample_sphere(spheres_[i], spacing, i, points, owners);
-    for (int i = 0; i < cones; ++i) sample_cone(cones_[i], spacing, spheres + i, points, owners);
-    for (std::size_t i = 0; i < triangles_.size(); ++i) {
-      sample_triangle(triangles_[i], spacing, spheres + cones + triangle_slab_[i], points, owners);
+    for (int i = 0; i < spheres; ++i) sample_sphere(spheres_[i], spacing, i, samples);
+    for (int i = 0; i < cones; ++i) sample_cone(cones_[i], spacing, spheres + i, samples);
+    for (int i = 0; i < static_cast<int>(triangles_.size()); ++i) {
+      sample_triangle(triangles_[i], spacing, spheres + cones + i, samples);
     }
+    return samples;
+  }
 
-    const auto count = static_cast<std::ptrdiff_t>(points.size());
-    std::vector<char> visible(points.size());
+  // The samples that are not deeper than `tolerance` inside a primitive other than their own.
+  BoundarySamples visible(const BoundarySamples& samples, double tolerance) const {
+    const auto count = static_cast<std::ptrdiff_t>(samples.points.size());
+    std::vector<char> keep(samples.points.size());
 #pragma omp parallel for schedule(dynamic, 4096)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
-      const Vec3& p = points[i];
-      visible[i] = !solid_tree_->any_containing(
-          p, [&](int id) { return id != owners[i] && solid_signed_distance(id, p) < -tolerance; });
+      const Vec3& p = samples.points[i];
+      const int owner = owner_solid(samples.pieces[i]);
+      keep[i] = !solid_tree_->any_containing(
+          p, [&](int id) { return id != owner && solid_signed_distance(id, p) < -tolerance; });
     }
-    std::vector<Vec3> result;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (visible[i]) result.push_back(points[i]);
+    BoundarySamples result;
+    for (std::size_t i = 0; i < samples.points.size(); ++i) {
+      if (!keep[i]) continue;
+      result.points.push_back(samples.points[i]);
+      result.pieces.push_back(samples.pieces[i]);
     }
     return result;
   }
 
+  // A grid of points `step` apart within `radius` of the sample p on the same piece (tangent
+  // plane offsets projected back onto the piece), to refine the maximum around p.
+  void sample_around(const Vec3& p, int piece, double radius, double step,
+                     BoundarySamples& out) const {
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    Vec3 normal;
+    if (piece < spheres) {
+      normal = (p - spheres_[piece].center).normalized();
+    } else if (piece < spheres + cones) {
+      const Cone& c = cones_[piece - spheres];
+      const Vec3 q = p - c.c1;
+      normal = c.b * c.axis + c.a * (q - q.dot(c.axis) * c.axis).normalized();
+    } else {
+      const auto& t = triangles_[piece - spheres - cones];
+      normal = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+    }
+    const Vec3 u = normal.unitOrthogonal(), v = normal.cross(u);
+    const int n = static_cast<int>(std::ceil(radius / step));
+    for (int i = -n; i <= n; ++i) {
+      for (int j = -n; j <= n; ++j) {
+        const Vec3 q = p + step * (i * u + j * v);
+        Vec3 projected;
+        if (!project_onto_piece(q, piece, projected)) continue;
+        out.points.push_back(projected);
+        out.pieces.push_back(piece);
+      }
+    }
+  }
+
  private:
+  int owner_solid(int piece) const {
+    const int first_triangle = static_cast<int>(spheres_.size() + cones_.size());
+    return piece < first_triangle ? piece : first_triangle + triangle_slab_[piece - first_triangle];
+  }
+
+  // Closest point of the piece to q (q near it); false when q falls outside a triangle.
+  bool project_onto_piece(const Vec3& q, int piece, Vec3& projected) const {
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    if (piece < spheres) {
+      const Sphere& s = spheres_[piece];
+      projected = s.center + s.radius * (q - s.center).normalized();
+      return true;
+    }
+    if (piece < spheres + cones) {
+      // In the (axial, radial) half-plane the lateral surface is a segment.
+      const Cone& c = cones_[piece - spheres];
+      const Vec3 d = q - c.c1;
+      const double x = d.dot(c.axis);
+      const Vec3 radial = (d - x * c.axis).normalized();
+      const Eigen::Vector2d a(c.r1 * c.b, c.r1 * c.a), b(c.h + c.r2 * c.b, c.r2 * c.a);
+      const Eigen::Vector2d ab = b - a;
+      const double t = std::clamp(
+          (Eigen::Vector2d(x, (d - x * c.axis).norm()) - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d on = a + t * ab;
+      projected = c.c1 + on.x() * c.axis + on.y() * radial;
+      return true;
+    }
+    const auto& t = triangles_[piece - spheres - cones];
+    const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], v = q - t[0];
+    const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2);
+    const double d20 = v.dot(e1), d21 = v.dot(e2), det = d00 * d11 - d01 * d01;
+    const double b1 = (d11 * d20 - d01 * d21) / det, b2 = (d00 * d21 - d01 * d20) / det;
+    projected = t[0] + b1 * e1 + b2 * e2;
+    return b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0;
+  }
+
   double solid_signed_distance(int id, const Vec3& p) const {
     const int spheres = static_cast<int>(spheres_.size());
     const int cones = static_cast<int>(cones_.size());
@@ -354,8 +439,7 @@ class Envelope {
   }
 
   // Fibonacci lattice: near-uniform points, about one per spacing^2 of area.
-  static void sample_sphere(const Sphere& s, double spacing, int owner, std::vector<Vec3>& points,
-                            std::vector<int>& owners) {
+  static void sample_sphere(const Sphere& s, double spacing, int piece, BoundarySamples& out) {
     const double area = 4.0 * kPi * s.radius * s.radius;
     const int n = std::max(4, static_cast<int>(std::ceil(area / (spacing * spacing))));
     const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
@@ -363,14 +447,13 @@ class Envelope {
       const double z = 1.0 - (2.0 * i + 1.0) / n;
       const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
       const double phi = golden_angle * i;
-      points.push_back(s.center + s.radius * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
-      owners.push_back(owner);
+      out.points.push_back(s.center + s.radius * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
+      out.pieces.push_back(piece);
     }
   }
 
   // Rings between the two circles where the lateral surface touches the spheres.
-  static void sample_cone(const Cone& c, double spacing, int owner, std::vector<Vec3>& points,
-                          std::vector<int>& owners) {
+  static void sample_cone(const Cone& c, double spacing, int piece, BoundarySamples& out) {
     if (c.is_sphere) return;
     const double start = c.r1 * c.b, end = c.h + c.r2 * c.b;
     const double rho1 = c.r1 * c.a, rho2 = c.r2 * c.a;
@@ -384,21 +467,22 @@ class Envelope {
       const int n = std::max(3, static_cast<int>(std::ceil(2.0 * kPi * rho / spacing)));
       for (int k = 0; k < n; ++k) {
         const double angle = 2.0 * kPi * k / n;
-        points.push_back(center + rho * (std::cos(angle) * u + std::sin(angle) * v));
-        owners.push_back(owner);
+        out.points.push_back(center + rho * (std::cos(angle) * u + std::sin(angle) * v));
+        out.pieces.push_back(piece);
       }
     }
   }
 
-  static void sample_triangle(const std::array<Vec3, 3>& t, double spacing, int owner,
-                              std::vector<Vec3>& points, std::vector<int>& owners) {
+  static void sample_triangle(const std::array<Vec3, 3>& t, double spacing, int piece,
+                              BoundarySamples& out) {
     const double longest =
         std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
     const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; i + j <= n; ++j) {
-        points.push_back(t[0] + (t[1] - t[0]) * (double(i) / n) + (t[2] - t[0]) * (double(j) / n));
-        owners.push_back(owner);
+        out.points.push_back(t[0] + (t[1] - t[0]) * (double(i) / n) +
+                             (t[2] - t[0]) * (double(j) / n));
+        out.pieces.push_back(piece);
       }
     }
   }
@@ -455,35 +539,48 @@ std::vector<Vec3> surface_samples(const SurfaceInput& shape, int count, unsigned
 }
 
 // Distance to the input: exact point-to-triangle distance for a mesh, nearest point for a cloud.
-std::vector<double> distances_to_shape(const SurfaceInput& shape, const std::vector<Vec3>& points) {
-  std::vector<double> distances(points.size());
-  const auto count = static_cast<std::ptrdiff_t>(points.size());
-  if (!shape.is_mesh()) {
-    const KdTree tree(shape.points);
-#pragma omp parallel for schedule(dynamic, 4096)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      double squared = 0.0;
-      tree.nearest(points[i], &squared);
-      distances[i] = std::sqrt(squared);
+class ShapeDistance {
+ public:
+  explicit ShapeDistance(const SurfaceInput& shape) : shape_(shape) {
+    if (!shape.is_mesh()) {
+      points_.emplace(shape.points);
+      return;
     }
+    boxes_.reserve(shape.faces.size());
+    for (const auto& f : shape.faces) {
+      boxes_.push_back(
+          Box(shape.points[f[0]]).extend(shape.points[f[1]]).extend(shape.points[f[2]]));
+    }
+    triangles_.emplace(boxes_);
+  }
+
+  std::vector<double> operator()(const std::vector<Vec3>& queries) const {
+    std::vector<double> distances(queries.size());
+    const auto count = static_cast<std::ptrdiff_t>(queries.size());
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] = distance(queries[i]);
     return distances;
   }
-  std::vector<Box> boxes;
-  boxes.reserve(shape.faces.size());
-  for (const auto& f : shape.faces) {
-    boxes.push_back(Box(shape.points[f[0]]).extend(shape.points[f[1]]).extend(shape.points[f[2]]));
-  }
-  const Bvh tree(boxes);
-#pragma omp parallel for schedule(dynamic, 4096)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
-    distances[i] = tree.nearest(points[i], [&](int face) {
-      const auto& f = shape.faces[face];
-      return point_triangle_distance(points[i], shape.points[f[0]], shape.points[f[1]],
-                                     shape.points[f[2]]);
+
+ private:
+  double distance(const Vec3& q) const {
+    if (points_) {
+      double squared = 0.0;
+      points_->nearest(q, &squared);
+      return std::sqrt(squared);
+    }
+    return triangles_->nearest(q, [&](int face) {
+      const auto& f = shape_.faces[face];
+      return point_triangle_distance(q, shape_.points[f[0]], shape_.points[f[1]],
+                                     shape_.points[f[2]]);
     });
   }
-  return distances;
-}
+
+  const SurfaceInput& shape_;
+  std::optional<KdTree> points_;
+  std::vector<Box> boxes_;
+  std::optional<Bvh> triangles_;  // refers to boxes_
+};
 
 std::pair<double, double> max_and_mean(const std::vector<double>& values) {
   double max = 0.0, sum = 0.0;
@@ -552,7 +649,8 @@ bool slab_tangent_triangles(const Sphere& a, const Sphere& b, const Sphere& c,
 }
 
 std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance) {
-  return Envelope(medial).visible_samples(spacing, tolerance);
+  const Envelope envelope(medial);
+  return envelope.visible(envelope.sample_boundaries(spacing), tolerance).points;
 }
 
 EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
@@ -579,15 +677,40 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
     to_medial[i] = envelope.boundary_distance(samples[i]);
   }
 
-  const std::vector<Vec3> boundary = envelope.visible_samples(
-      options.boundary_spacing * result.diagonal, options.inside_tolerance * result.diagonal);
-  const std::vector<double> to_surface = distances_to_shape(shape, boundary);
+  // Medial -> surface: uniform samples give the mean. The distance is 1-Lipschitz, so the maximum
+  // can only exceed a sample's value by the spacing: refine (twice, 4x finer) around the samples
+  // with the largest distances that could still hold it.
+  const double tolerance = options.inside_tolerance * result.diagonal;
+  double spacing = options.boundary_spacing * result.diagonal;
+  const ShapeDistance distance(shape);
+  BoundarySamples boundary = envelope.visible(envelope.sample_boundaries(spacing), tolerance);
+  std::vector<double> to_surface = distance(boundary.points);
+  std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
+  result.boundary_sample_count = boundary.points.size();
+  for (int round = 0; round < 2; ++round) {
+    std::vector<std::size_t> order(boundary.points.size());
+    std::iota(order.begin(), order.end(), 0);
+    const std::size_t refined = std::min(order.size(), kRefinedSamples);
+    std::partial_sort(
+        order.begin(), order.begin() + refined, order.end(), [&](std::size_t i, std::size_t j) {
+          return to_surface[i] > to_surface[j] || (to_surface[i] == to_surface[j] && i < j);
+        });
+    BoundarySamples finer;
+    for (std::size_t k = 0; k < refined; ++k) {
+      const std::size_t i = order[k];
+      if (to_surface[i] + spacing < result.medial_to_surface_max) break;
+      envelope.sample_around(boundary.points[i], boundary.pieces[i], spacing, spacing / 4, finer);
+    }
+    spacing /= 4;
+    boundary = envelope.visible(finer, tolerance);
+    to_surface = distance(boundary.points);
+    for (double d : to_surface)
+      result.medial_to_surface_max = std::max(result.medial_to_surface_max, d);
+  }
 
   std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
-  std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
   result.surface_sample_count = samples.size();
-  result.boundary_sample_count = boundary.size();
   result.vertex_error.assign(to_medial.begin(), to_medial.begin() + shape.points.size());
   return result;
 }
