@@ -21,7 +21,8 @@ struct EvalOptions {
   // Random area-weighted surface samples added to the input vertices (meshes only);
   // -1: as many as there are vertices.
   int surface_samples = -1;
-  // Distance between neighbouring samples on the primitives' boundaries, fraction of the diagonal.
+  // Distance between neighbouring samples on the primitives' boundaries, fraction of the
+  // diagonal. The mean uses these samples; the maximum is refined 16x finer around the farthest.
   double boundary_spacing = 0.004;
   // A boundary sample is hidden by another primitive only when deeper inside it than this,
   // fraction of the diagonal (touching primitives share boundary points).
@@ -39,7 +40,7 @@ struct EvalResult {
   double medial_to_surface_mean = 0.0;
   double hausdorff = 0.0;                 // max of the two one-sided maxima
   std::size_t surface_sample_count = 0;   // input points + random surface samples
-  std::size_t boundary_sample_count = 0;  // visible samples on the primitives' boundaries
+  std::size_t boundary_sample_count = 0;  // visible uniform samples on the primitives' boundaries
   // Surface -> medial distance of every input point (for colour maps).
   std::vector<double> vertex_error;
 
