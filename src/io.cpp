@@ -1,7 +1,5 @@
+// Readers of the IO stage (one tokenizer and one PLY parser for every format) and clean_surface.
 #include "vmas/io.hpp"
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
@@ -16,35 +14,22 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <random>
 #include <sstream>
 #include <string_view>
 
+#include "io_internal.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
 namespace {
 
+using io_internal::fail;
+using io_internal::host_is_little_endian;
+using io_internal::lower_extension;
+using io_internal::quote;
+
 using Face = std::array<int, 3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw IoError(path + ": " + problem);
-}
-
-// Quotes a token for an error message, keeping the message short and on one printable line.
-std::string quote(std::string_view token) {
-  std::string text(token.substr(0, 40));
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
-  return "'" + text + (token.size() > 40 ? "...'" : "'");
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
 
 // Fails with a clear message for the usual reasons a path cannot be read.
 void check_readable(const std::string& path) {
@@ -126,12 +111,14 @@ class LineTokenizer {
   template <typename T>
   T parse(std::string_view token) const {
     std::string_view digits = token;
-    if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);  // from_chars rejects '+'
+    if (digits.size() > 1 && digits.front() == '+')
+      digits.remove_prefix(1);  // from_chars rejects '+'
     T value{};
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
     if (error == std::errc::result_out_of_range) fail("number out of range " + quote(token));
     if (error != std::errc() || end != digits.data() + digits.size())
-      fail(std::string(std::is_integral_v<T> ? "expected an integer, found " : "non-numeric token ") +
+      fail(std::string(std::is_integral_v<T> ? "expected an integer, found "
+                                             : "non-numeric token ") +
            quote(token));
     return value;
   }
@@ -159,8 +146,7 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
   for (std::size_t k = 0; k < polygon.size(); ++k)
     if (!to_index(polygon[k], vertex_count, indices[k])) {
       std::ostringstream problem;
-      problem << "vertex index " << polygon[k] << " out of range (" << vertex_count
-              << " vertices)";
+      problem << "vertex index " << polygon[k] << " out of range (" << vertex_count << " vertices)";
       return problem.str();
     }
   for (std::size_t k = 1; k + 1 < indices.size(); ++k)
@@ -172,22 +158,23 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
 // become NaN so that clean_surface drops those points; without any normal, none are kept.
 class PointSink {
  public:
-  void add(const Vec3& point, const Vec3& normal = Vec3::Constant(kNaN)) {
-    surface_.points.push_back(point);
-    surface_.normals.push_back(normal);
-  }
+  void add(const Vec3& point) { push(point, Vec3::Constant(kNaN)); }
   void add_with_normal(const Vec3& point, const Vec3& normal) {
-    add(point, normal);
+    push(point, normal);
     any_normal_ = true;
   }
+  std::vector<Face>& faces() { return surface_.faces; }
   SurfaceInput finish() {
     if (!any_normal_) surface_.normals.clear();
     return std::move(surface_);
   }
-  std::size_t size() const { return surface_.points.size(); }
-  std::vector<Face>& faces() { return surface_.faces; }
 
  private:
+  void push(const Vec3& point, const Vec3& normal) {
+    surface_.points.push_back(point);
+    surface_.normals.push_back(normal);
+  }
+
   SurfaceInput surface_;
   bool any_normal_ = false;
 };
@@ -195,23 +182,34 @@ class PointSink {
 // ---------------------------------------------------------------------------------------------
 // Binary scalars (PLY bodies, PCD fields)
 
-enum class ScalarType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kInt64, kUint64,
-                        kFloat32, kFloat64 };
+enum class ScalarType {
+  kInt8,
+  kUint8,
+  kInt16,
+  kUint16,
+  kInt32,
+  kUint32,
+  kInt64,
+  kUint64,
+  kFloat32,
+  kFloat64
+};
 
 std::size_t scalar_size(ScalarType type) {
   switch (type) {
-    case ScalarType::kInt8: case ScalarType::kUint8: return 1;
-    case ScalarType::kInt16: case ScalarType::kUint16: return 2;
-    case ScalarType::kInt32: case ScalarType::kUint32: case ScalarType::kFloat32: return 4;
-    default: return 8;
+    case ScalarType::kInt8:
+    case ScalarType::kUint8:
+      return 1;
+    case ScalarType::kInt16:
+    case ScalarType::kUint16:
+      return 2;
+    case ScalarType::kInt32:
+    case ScalarType::kUint32:
+    case ScalarType::kFloat32:
+      return 4;
+    default:
+      return 8;
   }
-}
-
-bool host_is_little_endian() {
-  const std::uint16_t probe = 1;
-  char first;
-  std::memcpy(&first, &probe, 1);
-  return first == 1;
 }
 
 template <typename T>
@@ -222,8 +220,7 @@ double load(const char* raw) {
 }
 
 // Reads one value at `cursor` and advances it; false (cursor unchanged) if the data ends first.
-bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swap,
-                 double& value) {
+bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swap, double& value) {
   const std::size_t size = scalar_size(type);
   if (static_cast<std::size_t>(end - cursor) < size) return false;
   char raw[8];
@@ -231,46 +228,38 @@ bool read_scalar(const char*& cursor, const char* end, ScalarType type, bool swa
   if (swap) std::reverse(raw, raw + size);
   cursor += size;
   switch (type) {
-    case ScalarType::kInt8: value = load<std::int8_t>(raw); break;
-    case ScalarType::kUint8: value = load<std::uint8_t>(raw); break;
-    case ScalarType::kInt16: value = load<std::int16_t>(raw); break;
-    case ScalarType::kUint16: value = load<std::uint16_t>(raw); break;
-    case ScalarType::kInt32: value = load<std::int32_t>(raw); break;
-    case ScalarType::kUint32: value = load<std::uint32_t>(raw); break;
-    case ScalarType::kInt64: value = load<std::int64_t>(raw); break;
-    case ScalarType::kUint64: value = load<std::uint64_t>(raw); break;
-    case ScalarType::kFloat32: value = load<float>(raw); break;
-    case ScalarType::kFloat64: value = load<double>(raw); break;
+    case ScalarType::kInt8:
+      value = load<std::int8_t>(raw);
+      break;
+    case ScalarType::kUint8:
+      value = load<std::uint8_t>(raw);
+      break;
+    case ScalarType::kInt16:
+      value = load<std::int16_t>(raw);
+      break;
+    case ScalarType::kUint16:
+      value = load<std::uint16_t>(raw);
+      break;
+    case ScalarType::kInt32:
+      value = load<std::int32_t>(raw);
+      break;
+    case ScalarType::kUint32:
+      value = load<std::uint32_t>(raw);
+      break;
+    case ScalarType::kInt64:
+      value = load<std::int64_t>(raw);
+      break;
+    case ScalarType::kUint64:
+      value = load<std::uint64_t>(raw);
+      break;
+    case ScalarType::kFloat32:
+      value = load<float>(raw);
+      break;
+    case ScalarType::kFloat64:
+      value = load<double>(raw);
+      break;
   }
   return true;
-}
-
-// Appends a value in little-endian byte order, whatever the host's.
-template <typename T>
-void append_binary(std::string& out, T value) {
-  char raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof value);
-  if (!host_is_little_endian()) std::reverse(raw, raw + sizeof raw);
-  out.append(raw, sizeof raw);
-}
-
-// Shortest text that reads back to the same double (precision 0), or `precision` digits.
-void append_number(std::string& out, double value, int precision = 0) {
-  char buffer[64];
-  const auto result = precision > 0 ? std::to_chars(buffer, buffer + sizeof buffer, value,
-                                                    std::chars_format::general, precision)
-                                    : std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
-
-void append_numbers(std::string& out, std::initializer_list<double> values, int precision = 0) {
-  bool first = true;
-  for (double value : values) {
-    if (!first) out += ' ';
-    append_number(out, value, precision);
-    first = false;
-  }
-  out += '\n';
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -278,13 +267,13 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
 
 bool parse_ply_type(std::string_view name, ScalarType& type) {
   static const std::pair<std::string_view, ScalarType> kTypes[] = {
-      {"char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},
-      {"uchar", ScalarType::kUint8},   {"uint8", ScalarType::kUint8},
-      {"short", ScalarType::kInt16},   {"int16", ScalarType::kInt16},
-      {"ushort", ScalarType::kUint16}, {"uint16", ScalarType::kUint16},
-      {"int", ScalarType::kInt32},     {"int32", ScalarType::kInt32},
-      {"uint", ScalarType::kUint32},   {"uint32", ScalarType::kUint32},
-      {"float", ScalarType::kFloat32}, {"float32", ScalarType::kFloat32},
+      {"char", ScalarType::kInt8},      {"int8", ScalarType::kInt8},
+      {"uchar", ScalarType::kUint8},    {"uint8", ScalarType::kUint8},
+      {"short", ScalarType::kInt16},    {"int16", ScalarType::kInt16},
+      {"ushort", ScalarType::kUint16},  {"uint16", ScalarType::kUint16},
+      {"int", ScalarType::kInt32},      {"int32", ScalarType::kInt32},
+      {"uint", ScalarType::kUint32},    {"uint32", ScalarType::kUint32},
+      {"float", ScalarType::kFloat32},  {"float32", ScalarType::kFloat32},
       {"double", ScalarType::kFloat64}, {"float64", ScalarType::kFloat64}};
   for (const auto& [type_name, value] : kTypes)
     if (type_name == name) {
@@ -361,10 +350,14 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
     if (keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
       if (tokens.size() < 2) header.fail("bad header: incomplete format line");
-      if (tokens[1] == "ascii") ply.format = PlyFormat::kAscii;
-      else if (tokens[1] == "binary_little_endian") ply.format = PlyFormat::kBinaryLittleEndian;
-      else if (tokens[1] == "binary_big_endian") ply.format = PlyFormat::kBinaryBigEndian;
-      else header.fail("bad header: unknown format " + quote(tokens[1]));
+      if (tokens[1] == "ascii")
+        ply.format = PlyFormat::kAscii;
+      else if (tokens[1] == "binary_little_endian")
+        ply.format = PlyFormat::kBinaryLittleEndian;
+      else if (tokens[1] == "binary_big_endian")
+        ply.format = PlyFormat::kBinaryBigEndian;
+      else
+        header.fail("bad header: unknown format " + quote(tokens[1]));
       has_format = true;
     } else if (keyword == "element") {
       if (tokens.size() != 3) header.fail("bad header: expected 'element NAME COUNT'");
@@ -378,6 +371,9 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
         header.fail("bad header: expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
       if (property.is_list && !parse_ply_type(tokens[2], property.count_type))
         header.fail("bad header: unknown type " + quote(tokens[2]));
+      if (property.is_list && (property.count_type == ScalarType::kFloat32 ||
+                               property.count_type == ScalarType::kFloat64))
+        header.fail("bad header: list length type must be an integer type");
       if (!parse_ply_type(tokens[expected - 2], property.type))
         header.fail("bad header: unknown type " + quote(tokens[expected - 2]));
       property.name = tokens[expected - 1];
@@ -487,8 +483,7 @@ const std::vector<double>& ply_column(const std::string& path, const PlyElement&
   return property->values;
 }
 
-std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply,
-                            std::size_t vertex_count) {
+std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply, std::size_t vertex_count) {
   std::vector<Face> faces;
   const PlyElement* element = ply.find("face");
   if (!element || element->count == 0) return faces;
@@ -517,7 +512,8 @@ SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) 
     const auto& nx = ply_column(path, *vertex, {"nx"});
     const auto& ny = ply_column(path, *vertex, {"ny"});
     const auto& nz = ply_column(path, *vertex, {"nz"});
-    for (std::size_t i = 0; i < vertex->count; ++i) surface.normals.emplace_back(nx[i], ny[i], nz[i]);
+    for (std::size_t i = 0; i < vertex->count; ++i)
+      surface.normals.emplace_back(nx[i], ny[i], nz[i]);
   }
   surface.faces = ply_faces(path, ply, vertex->count);
   return surface;
@@ -534,7 +530,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF")
     lines.fail("bad header: expected OFF, NOFF or COFF, found " + quote(keyword));
   // NOFF promises a normal after each vertex; files that say NOFF but give none load without.
-  const bool normals_announced = keyword.substr(0, keyword.size() - 3).find('N') != std::string_view::npos;
+  const bool normals_announced =
+      keyword.substr(0, keyword.size() - 3).find('N') != std::string_view::npos;
   std::size_t first = 1;
   if (tokens.size() == 1) {
     if (!lines.next(tokens)) fail(path, "bad header: no vertex and face counts");
@@ -547,8 +544,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   PointSink sink;
   for (std::size_t i = 0; i < vertex_count; ++i) {
     if (!lines.next(tokens))
-      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(vertex_count) +
-                     " vertices");
+      fail(path,
+           "truncated: " + std::to_string(i) + " of " + std::to_string(vertex_count) + " vertices");
     if (tokens.size() < 3) lines.fail("expected x y z");
     if (normals_announced && tokens.size() >= 6)
       sink.add_with_normal(lines.vec3(tokens, 0), lines.vec3(tokens, 3));
@@ -558,8 +555,8 @@ SurfaceInput parse_off(const std::string& path, std::string_view text) {
   std::vector<double> polygon;
   for (std::size_t i = 0; i < face_count; ++i) {
     if (!lines.next(tokens))
-      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(face_count) +
-                     " faces");
+      fail(path,
+           "truncated: " + std::to_string(i) + " of " + std::to_string(face_count) + " faces");
     const std::size_t size = lines.count(tokens[0]);
     if (size > tokens.size() - 1) lines.fail("face lists fewer indices than its size");
     polygon.clear();
@@ -597,8 +594,7 @@ SurfaceInput parse_obj(const std::string& path, std::string_view text) {
     }
   }
   // Normals can be matched to points only in a cloud listing exactly one per point.
-  if (surface.is_mesh() || surface.normals.size() != surface.points.size())
-    surface.normals.clear();
+  if (surface.is_mesh() || surface.normals.size() != surface.points.size()) surface.normals.clear();
   return surface;
 }
 
@@ -639,13 +635,16 @@ SurfaceInput read_pcd(const std::string& path) {
       if (field.name != name) continue;
       using F = pcl::PCLPointField;
       static const std::pair<int, ScalarType> kTypes[] = {
-          {F::INT8, ScalarType::kInt8},     {F::UINT8, ScalarType::kUint8},
-          {F::INT16, ScalarType::kInt16},   {F::UINT16, ScalarType::kUint16},
-          {F::INT32, ScalarType::kInt32},   {F::UINT32, ScalarType::kUint32},
-          {F::INT64, ScalarType::kInt64},   {F::UINT64, ScalarType::kUint64},
+          {F::INT8, ScalarType::kInt8},       {F::UINT8, ScalarType::kUint8},
+          {F::INT16, ScalarType::kInt16},     {F::UINT16, ScalarType::kUint16},
+          {F::INT32, ScalarType::kInt32},     {F::UINT32, ScalarType::kUint32},
+          {F::INT64, ScalarType::kInt64},     {F::UINT64, ScalarType::kUint64},
           {F::FLOAT32, ScalarType::kFloat32}, {F::FLOAT64, ScalarType::kFloat64}};
-      for (const auto& [datatype, type] : kTypes)
-        if (field.datatype == datatype) result = {field.offset, type};
+      const auto known = std::find_if(std::begin(kTypes), std::end(kTypes), [&](const auto& entry) {
+        return entry.first == field.datatype;
+      });
+      if (known == std::end(kTypes)) fail(path, "PCD field '" + name + "' has an unsupported type");
+      result = {field.offset, known->second};
       if (result.offset + scalar_size(result.type) > cloud.point_step)
         fail(path, "PCD field '" + name + "' lies outside its point");
       return true;
@@ -768,10 +767,14 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report) {
   } else if (extension == ".off" || extension == ".ply" || extension == ".obj" ||
              extension == ".xyz" || extension == ".txt") {
     const std::string bytes = read_file(path);
-    if (extension == ".off") surface = parse_off(path, bytes);
-    else if (extension == ".ply") surface = parse_ply_surface(path, bytes);
-    else if (extension == ".obj") surface = parse_obj(path, bytes);
-    else surface = parse_xyz(path, bytes);
+    if (extension == ".off")
+      surface = parse_off(path, bytes);
+    else if (extension == ".ply")
+      surface = parse_ply_surface(path, bytes);
+    else if (extension == ".obj")
+      surface = parse_obj(path, bytes);
+    else
+      surface = parse_xyz(path, bytes);
   } else {
     fail(path, "unknown file extension " + quote(extension) +
                    " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
@@ -794,11 +797,13 @@ CleanReport clean_surface(SurfaceInput& surface) {
 
   std::vector<std::size_t> usable;
   for (std::size_t i = 0; i < count; ++i) {
-    const bool finite =
-        points[i].allFinite() &&
-        (!with_normals || (surface.normals[i].allFinite() && surface.normals[i].norm() > 0.0));
-    if (finite) usable.push_back(i);
-    else ++report.non_finite_points;
+    const bool finite = points[i].allFinite() &&
+                        (!with_normals ||
+                         (surface.normals[i].allFinite() && surface.normals[i].stableNorm() > 0.0));
+    if (finite)
+      usable.push_back(i);
+    else
+      ++report.non_finite_points;
   }
 
   // Sorting by coordinates, then by index, makes the first occurrence of each point its
@@ -837,7 +842,8 @@ CleanReport clean_surface(SurfaceInput& surface) {
                  corners[0] == corners[2] ||
                  0.5 * (points[corners[1]] - points[corners[0]])
                              .cross(points[corners[2]] - points[corners[0]])
-                             .norm() < min_area;
+                             .norm() <
+                     min_area;
     if (degenerate) {
       ++report.degenerate_faces;
       continue;
@@ -857,100 +863,13 @@ CleanReport clean_surface(SurfaceInput& surface) {
     }
     new_index[i] = static_cast<int>(cleaned.points.size());
     cleaned.points.push_back(points[i]);
-    if (with_normals) cleaned.normals.push_back(surface.normals[i].normalized());
+    if (with_normals)
+      cleaned.normals.push_back(surface.normals[i] / surface.normals[i].stableNorm());
   }
   for (const auto& corners : faces)
     cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});
   surface = std::move(cleaned);
   return report;
-}
-
-void write_file_atomically(const std::string& path, const std::string& contents) {
-  const auto failure = [&](const std::string& reason) {
-    fail(path, "cannot write (" + reason + ")");
-  };
-  // O_EXCL on a random name gives a temporary no one else uses; mode 0666 lets umask decide.
-  std::random_device entropy;
-  std::string temporary;
-  int descriptor = -1;
-  for (int attempt = 0; attempt < 100 && descriptor < 0; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
-    temporary = path + suffix;
-    descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (descriptor < 0 && errno != EEXIST) failure(std::strerror(errno));
-  }
-  if (descriptor < 0) failure("no free temporary name");
-
-  std::string problem;
-  for (std::size_t written = 0; written < contents.size() && problem.empty();) {
-    const ssize_t result =
-        ::write(descriptor, contents.data() + written, contents.size() - written);
-    if (result >= 0) written += static_cast<std::size_t>(result);
-    else if (errno != EINTR) problem = std::strerror(errno);
-  }
-  if (::close(descriptor) != 0 && problem.empty()) problem = std::strerror(errno);
-  if (problem.empty() && std::rename(temporary.c_str(), path.c_str()) != 0)
-    problem = std::strerror(errno);
-  if (!problem.empty()) {
-    ::unlink(temporary.c_str());
-    failure(problem);
-  }
-}
-
-void write_surface(const std::string& path, const SurfaceInput& surface) {
-  const std::string extension = lower_extension(path);
-  const bool normals = surface.has_normals();
-  std::string out;
-  if (extension == ".ply") {
-    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
-          std::to_string(surface.points.size()) + "\nproperty float x\nproperty float y\n" +
-          "property float z\n";
-    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
-    if (surface.is_mesh())
-      out += "element face " + std::to_string(surface.faces.size()) +
-             "\nproperty list uchar int vertex_indices\n";
-    out += "end_header\n";
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(surface.points[i][c]));
-      for (int c = 0; normals && c < 3; ++c)
-        append_binary(out, static_cast<float>(surface.normals[i][c]));
-    }
-    for (const Face& face : surface.faces) {
-      append_binary(out, std::uint8_t{3});
-      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
-    }
-  } else if (extension == ".off") {
-    // Normals are kept only for clouds; a mesh's orientation is given by its faces.
-    const bool noff = normals && !surface.is_mesh();
-    out = std::string(noff ? "NOFF\n" : "OFF\n") + std::to_string(surface.points.size()) + " " +
-          std::to_string(surface.faces.size()) + " 0\n";
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      const Vec3& p = surface.points[i];
-      if (noff) {
-        const Vec3& n = surface.normals[i];
-        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
-      } else {
-        append_numbers(out, {p.x(), p.y(), p.z()});
-      }
-    }
-    for (const Face& face : surface.faces)
-      out += "3 " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
-             std::to_string(face[2]) + "\n";
-  } else if (extension == ".xyz") {
-    for (std::size_t i = 0; i < surface.points.size(); ++i) {
-      const Vec3& p = surface.points[i];
-      if (normals) {
-        const Vec3& n = surface.normals[i];
-        append_numbers(out, {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()}, 9);
-      } else {
-        append_numbers(out, {p.x(), p.y(), p.z()}, 9);
-      }
-    }
-  } else {
-    fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
-  }
-  write_file_atomically(path, out);
 }
 
 MedialMesh read_medial_mesh(const std::string& path) {
@@ -959,51 +878,6 @@ MedialMesh read_medial_mesh(const std::string& path) {
     fail(path, "unknown medial mesh extension " + quote(extension) + " (expected .ply or .ma)");
   const std::string bytes = read_file(path);
   return extension == ".ma" ? parse_ma(path, bytes) : parse_ply_medial(path, bytes);
-}
-
-void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
-  const std::string extension = lower_extension(path);
-  std::string out;
-  if (extension == ".ply") {
-    out = "ply\nformat binary_little_endian 1.0\ncomment generated by vmas\nelement vertex " +
-          std::to_string(mesh.spheres.size()) +
-          "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\n"
-          "element edge " + std::to_string(mesh.edges.size()) +
-          "\nproperty int vertex1\nproperty int vertex2\nelement face " +
-          std::to_string(mesh.faces.size()) +
-          "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const Sphere& sphere : mesh.spheres) {
-      for (int c = 0; c < 3; ++c) append_binary(out, static_cast<float>(sphere.center[c]));
-      append_binary(out, static_cast<float>(sphere.radius));
-    }
-    for (const auto& edge : mesh.edges)
-      for (int index : edge) append_binary(out, static_cast<std::int32_t>(index));
-    for (const Face& face : mesh.faces) {
-      append_binary(out, std::uint8_t{3});
-      for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
-    }
-  } else if (extension == ".ma") {
-    out = std::to_string(mesh.spheres.size()) + " " + std::to_string(mesh.edges.size()) + " " +
-          std::to_string(mesh.faces.size()) + "\n";
-    for (const Sphere& sphere : mesh.spheres) {
-      out += "v ";
-      append_numbers(out, {sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
-    }
-    for (const auto& edge : mesh.edges)
-      out += "e " + std::to_string(edge[0]) + " " + std::to_string(edge[1]) + "\n";
-    for (const Face& face : mesh.faces)
-      out += "f " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
-             std::to_string(face[2]) + "\n";
-  } else {
-    fail(path, "cannot write medial mesh as " + quote(extension) + " (expected .ply or .ma)");
-  }
-  write_file_atomically(path, out);
-}
-
-void write_labels(const std::string& path, const std::vector<int>& labels) {
-  std::string out;
-  for (int label : labels) out += std::to_string(label) + "\n";
-  write_file_atomically(path, out);
 }
 
 }  // namespace vmas

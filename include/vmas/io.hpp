@@ -24,16 +24,24 @@ struct CleanReport {
 // Reads a mesh or a point cloud, chosen by extension (case-insensitive):
 //   .off (OFF/NOFF/COFF, comments; a file with no faces is a cloud), .ply (ASCII or binary,
 //   unknown elements and properties skipped), .obj (v/vn/f), .xyz/.txt (3 or 6 columns),
-//   .pcd (ascii, binary, binary_compressed).
+//   .pcd (ascii, binary, binary_compressed). Polygons are fan-triangulated.
+// Normals: when some points carry one and others do not (NOFF or .xyz lines without normals),
+// the missing ones are NaN, so cleaning drops those points; a NOFF file giving no normal at all
+// loads as a plain cloud. OBJ `vn` lines are used only for clouds with one `vn` per `v`.
 // Then cleans it (see clean_surface) and fills `report` if given. Throws IoError when the file is
 // missing, unreadable, of unknown format, truncated or malformed, or holds no usable point.
 SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
 
 // Removes non-finite points, merges exact duplicates (remapping faces), drops degenerate faces
-// and, for meshes, unreferenced vertices. Normals are renormalised; zero normals count as non-finite.
+// and, for meshes, unreferenced vertices. Normals are renormalised; zero normals count as
+// non-finite, so such points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are
+// degenerate. Kept points stay in input order, each duplicate group keeping its first point.
+// Throws InvalidInput if `normals` is neither empty nor one per point.
 CleanReport clean_surface(SurfaceInput& surface);
 
-// Writes a mesh or cloud: .ply (binary, with normals if present), .off, .xyz (with normals if present).
+// Writes a mesh or cloud: .ply (binary little-endian, float coordinates, with normals if
+// present), .off (exact doubles; NOFF for clouds with normals, a mesh's normals are not written),
+// .xyz (9 significant digits, with normals if present; faces are not written).
 void write_surface(const std::string& path, const SurfaceInput& surface);
 
 // Medial mesh: .ply (vertex x y z radius, edge vertex1 vertex2, face vertex_indices) or .ma
