@@ -1,0 +1,77 @@
+#pragma once
+// Reconstruction error of a medial mesh (paper §4, Table 1). The reconstruction is the union of
+// the medial primitives: every sphere, the convex hull of the two spheres of every edge (a round
+// cone) and the convex hull of the three spheres of every face (a slab: three cones plus the two
+// triangles tangent to all three spheres). Face edges count as edges even when not listed.
+//   surface -> medial: for every input point plus area-weighted random surface samples, the
+//     smallest unsigned distance to the boundary of any sphere, cone or tangent triangle;
+//   medial -> surface: for samples on every primitive boundary that lie inside no other
+//     primitive, the distance to the input mesh (to the nearest input point for a cloud).
+// ε (hausdorff) is the larger of the two maxima; percent() expresses it relative to the input's
+// bounding-box diagonal as the paper does.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+struct EvalOptions {
+  // Random area-weighted surface samples added to the input vertices (meshes only);
+  // -1: as many as there are vertices.
+  int surface_samples = -1;
+  // Distance between neighbouring samples on the primitives' boundaries, fraction of the diagonal.
+  double boundary_spacing = 0.004;
+  // A boundary sample is hidden by another primitive only when deeper inside it than this,
+  // fraction of the diagonal (touching primitives share boundary points).
+  double inside_tolerance = 1e-6;
+  unsigned seed = 1;  // for the random surface samples; results are deterministic per seed
+
+  void validate() const;  // throws InvalidOption
+};
+
+struct EvalResult {
+  double diagonal = 0.0;  // bounding-box diagonal of the input; every length below is absolute
+  double surface_to_medial_max = 0.0;
+  double surface_to_medial_mean = 0.0;
+  double medial_to_surface_max = 0.0;
+  double medial_to_surface_mean = 0.0;
+  double hausdorff = 0.0;                 // max of the two one-sided maxima
+  std::size_t surface_sample_count = 0;   // input points + random surface samples
+  std::size_t boundary_sample_count = 0;  // visible samples on the primitives' boundaries
+  // Surface -> medial distance of every input point (for colour maps).
+  std::vector<double> vertex_error;
+
+  double percent(double length) const { return 100.0 * length / diagonal; }
+};
+
+// Throws InvalidInput when the shape has no point or a face index out of range, or when the
+// medial mesh is empty, has an index out of range or repeated within an element, or a radius
+// that is negative or not finite.
+EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
+                    const EvalOptions& options = {});
+
+// Samples on the boundary of the reconstruction: points of sphere surfaces, cone lateral surfaces
+// and slab tangent triangles, `spacing` apart, that are not deeper than `tolerance` inside any
+// other primitive. Validates `medial` like evaluate().
+std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance);
+
+// Exact signed distance to the round cone spanned by two spheres (negative inside). When one
+// sphere contains the other the cone is the bigger sphere.
+double round_cone_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b);
+
+// Signed distance to the slab spanned by three spheres: outside, the exact distance; inside, a
+// negative value whose magnitude is at most the depth (the depth inside the deepest interpolated
+// sphere), so its sign is an exact inside test.
+double slab_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b, const Sphere& c);
+
+// The two triangles tangent to all three spheres (vertices are the tangent points, in the order
+// a, b, c). False when they do not exist: collinear centres, or one sphere inside another.
+bool slab_tangent_triangles(const Sphere& a, const Sphere& b, const Sphere& c,
+                            std::array<std::array<Vec3, 3>, 2>& triangles);
+
+// Euclidean distance from p to the triangle abc (degenerate triangles allowed).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace vmas

@@ -1,0 +1,595 @@
+#include "vmas/eval.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <random>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "vmas/error.hpp"
+#include "vmas/kdtree.hpp"
+
+namespace vmas {
+namespace {
+
+using Box = Eigen::AlignedBox3d;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+Box sphere_box(const Vec3& center, double radius) {
+  const Vec3 extent = Vec3::Constant(radius);
+  return Box(center - extent, center + extent);
+}
+
+double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+// The convex hull of two spheres. When one contains the other it is the bigger sphere, stored in
+// c1/r1 with `is_sphere` set.
+struct Cone {
+  Vec3 c1, c2, axis;
+  double r1 = 0.0, r2 = 0.0, h = 0.0;
+  double a = 1.0, b = 0.0;  // (cos, sin) of the lateral surface's slope against the axis
+  bool is_sphere = false;
+
+  Cone(const Sphere& s1, const Sphere& s2)
+      : c1(s1.center), c2(s2.center), r1(s1.radius), r2(s2.radius), h((c2 - c1).norm()) {
+    if (h <= std::abs(r1 - r2)) {
+      is_sphere = true;
+      if (r2 > r1) {
+        c1 = c2;
+        r1 = r2;
+      }
+      return;
+    }
+    axis = (c2 - c1) / h;
+    b = (r1 - r2) / h;
+    a = std::sqrt(1.0 - b * b);
+  }
+
+  // In the (axial x, radial y) half-plane the boundary is circle 1, the tangent segment and
+  // circle 2; the normal of the segment is (b, a), which splits the plane into three regions.
+  double signed_distance(const Vec3& p) const {
+    const Vec3 q = p - c1;
+    if (is_sphere) return q.norm() - r1;
+    const double x = q.dot(axis);
+    const double y = (q - x * axis).norm();
+    const double k = a * x - b * y;
+    if (k < 0.0) return q.norm() - r1;
+    if (k > a * h) return (p - c2).norm() - r2;
+    return a * y + b * x - r1;
+  }
+
+  Box box() const {
+    Box box = sphere_box(c1, r1);
+    if (!is_sphere) box.extend(sphere_box(c2, r2));
+    return box;
+  }
+};
+
+// The convex hull of three spheres, i.e. the union of the spheres interpolated linearly over the
+// triangle. Distance to it = min over the triangle of |p - c(t)| - r(t), a convex function of t:
+// its minimum is either the interior critical point, where it equals the distance to a tangent
+// plane, or on an edge, where it is the cone's distance.
+struct Slab {
+  std::array<Cone, 3> cones;
+  bool has_planes = false;
+  Vec3 c0, e1, e2, normal, gradient;  // gradient: of the radius, interpolated over the plane
+  double r0 = 0.0, s = 0.0;           // s = sqrt(1 - |gradient|^2)
+  double d00 = 0.0, d01 = 0.0, d11 = 0.0, det = 0.0;
+  std::array<std::array<Vec3, 3>, 2> triangles;
+
+  Slab(const Sphere& s0, const Sphere& s1, const Sphere& s2)
+      : cones{Cone(s0, s1), Cone(s1, s2), Cone(s2, s0)},
+        c0(s0.center),
+        e1(s1.center - s0.center),
+        e2(s2.center - s0.center),
+        r0(s0.radius) {
+    d00 = e1.squaredNorm();
+    d01 = e1.dot(e2);
+    d11 = e2.squaredNorm();
+    const Vec3 cross = e1.cross(e2);
+    det = cross.squaredNorm();  // = d00 * d11 - d01^2, without the cancellation
+    // (Nearly) collinear centres: the minimum is on an edge.
+    if (!(det > 1e-12 * d00 * d11)) return;
+    const double dr1 = s1.radius - r0, dr2 = s2.radius - r0;
+    gradient = ((d11 * dr1 - d01 * dr2) * e1 + (d00 * dr2 - d01 * dr1) * e2) / det;
+    const double g2 = gradient.squaredNorm();
+    // |gradient| >= 1: one sphere is inside (or internally tangent to) another, no tangent plane.
+    if (g2 >= 1.0) return;
+    has_planes = true;
+    s = std::sqrt(1.0 - g2);
+    normal = cross.normalized();
+    const std::array<const Sphere*, 3> spheres{&s0, &s1, &s2};
+    for (int i = 0; i < 3; ++i) {
+      const Sphere& sphere = *spheres[i];
+      triangles[0][i] = sphere.center + sphere.radius * (s * normal - gradient);
+      triangles[1][i] = sphere.center + sphere.radius * (-s * normal - gradient);
+    }
+  }
+
+  double signed_distance(const Vec3& p) const {
+    if (has_planes) {
+      const double height = (p - c0).dot(normal);
+      const Vec3 in_plane = p - height * normal;
+      const Vec3 v = in_plane + gradient * (std::abs(height) / s) - c0;
+      const double d20 = v.dot(e1), d21 = v.dot(e2);
+      const double u = (d11 * d20 - d01 * d21) / det, w = (d00 * d21 - d01 * d20) / det;
+      if (u >= 0.0 && w >= 0.0 && u + w <= 1.0) {
+        return s * std::abs(height) - (r0 + gradient.dot(in_plane - c0));
+      }
+    }
+    return std::min(
+        {cones[0].signed_distance(p), cones[1].signed_distance(p), cones[2].signed_distance(p)});
+  }
+
+  Box box() const { return cones[0].box().extend(cones[1].box()).extend(cones[2].box()); }
+};
+
+// Bounding-volume hierarchy over boxes (median split on the longest axis). The queries take the
+// exact per-item test as a callback, so one tree type serves primitives and input triangles.
+class Bvh {
+ public:
+  explicit Bvh(const std::vector<Box>& boxes) : boxes_(boxes), items_(boxes.size()) {
+    for (std::size_t i = 0; i < items_.size(); ++i) items_[i] = static_cast<int>(i);
+    if (!items_.empty()) build(0, static_cast<int>(items_.size()));
+  }
+
+  // Smallest distance(item) over all items; distance(item) must be at least the distance from p
+  // to the item's box, which is what prunes the search.
+  template <class Distance>
+  double nearest(const Vec3& p, Distance&& distance) const {
+    double best = kInfinity;
+    if (nodes_.empty()) return best;
+    int stack[kMaxDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (node.box.squaredExteriorDistance(p) >= best * best) continue;
+      if (node.count > 0) {
+        for (int i = node.first; i < node.first + node.count; ++i) {
+          best = std::min(best, distance(items_[i]));
+        }
+        continue;
+      }
+      const int left = node.first, right = node.first + 1;
+      const bool left_first = nodes_[left].box.squaredExteriorDistance(p) <
+                              nodes_[right].box.squaredExteriorDistance(p);
+      stack[top++] = left_first ? right : left;
+      stack[top++] = left_first ? left : right;
+    }
+    return best;
+  }
+
+  // Whether accept(item) holds for some item whose box contains p.
+  template <class Accept>
+  bool any_containing(const Vec3& p, Accept&& accept) const {
+    if (nodes_.empty()) return false;
+    int stack[kMaxDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (!node.box.contains(p)) continue;
+      if (node.count > 0) {
+        for (int i = node.first; i < node.first + node.count; ++i) {
+          if (accept(items_[i])) return true;
+        }
+        continue;
+      }
+      stack[top++] = node.first;
+      stack[top++] = node.first + 1;
+    }
+    return false;
+  }
+
+ private:
+  // Inner nodes: children at first and first + 1. Leaves: items_[first, first + count).
+  struct Node {
+    Box box;
+    int first = 0;
+    int count = 0;
+  };
+  static constexpr int kLeafSize = 4;
+  static constexpr int kMaxDepth = 128;  // median splits: depth <= log2(n) + 1, two slots per level
+
+  void build(int begin, int end) {
+    nodes_.push_back({});
+    build_node(static_cast<int>(nodes_.size()) - 1, begin, end);
+  }
+
+  void build_node(int index, int begin, int end) {
+    Box box, centers;
+    for (int i = begin; i < end; ++i) {
+      box.extend(boxes_[items_[i]]);
+      centers.extend(boxes_[items_[i]].center());
+    }
+    nodes_[index].box = box;
+    if (end - begin <= kLeafSize) {
+      nodes_[index].first = begin;
+      nodes_[index].count = end - begin;
+      return;
+    }
+    int axis = 0;
+    centers.sizes().maxCoeff(&axis);
+    const int middle = (begin + end) / 2;
+    std::nth_element(
+        items_.begin() + begin, items_.begin() + middle, items_.begin() + end,
+        [&](int i, int j) { return boxes_[i].center()[axis] < boxes_[j].center()[axis]; });
+    const int children = static_cast<int>(nodes_.size());
+    nodes_[index].first = children;
+    nodes_.resize(nodes_.size() + 2);
+    build_node(children, begin, middle);
+    build_node(children + 1, middle, end);
+  }
+
+  const std::vector<Box>& boxes_;
+  std::vector<int> items_;
+  std::vector<Node> nodes_;
+};
+
+void check_medial(const MedialMesh& medial) {
+  if (medial.spheres.empty()) throw InvalidInput("medial mesh has no sphere");
+  const int n = static_cast<int>(medial.spheres.size());
+  for (int i = 0; i < n; ++i) {
+    const Sphere& s = medial.spheres[i];
+    if (!s.center.allFinite() || !std::isfinite(s.radius) || s.radius < 0.0) {
+      throw InvalidInput("medial sphere " + std::to_string(i) +
+                         " has a non-finite coordinate or an invalid radius");
+    }
+  }
+  auto check = [n](const int* indices, int size, const char* what, std::size_t element) {
+    for (int k = 0; k < size; ++k) {
+      const bool repeated = std::find(indices, indices + k, indices[k]) != indices + k;
+      if (indices[k] < 0 || indices[k] >= n || repeated) {
+        throw InvalidInput(std::string("medial ") + what + " " + std::to_string(element) +
+                           ": sphere index " + std::to_string(indices[k]) +
+                           (repeated ? " repeated" : " out of range"));
+      }
+    }
+  };
+  for (std::size_t e = 0; e < medial.edges.size(); ++e) check(medial.edges[e].data(), 2, "edge", e);
+  for (std::size_t f = 0; f < medial.faces.size(); ++f) check(medial.faces[f].data(), 3, "face", f);
+}
+
+// The reconstruction: its primitives as solids (for "is this point hidden") and the pieces of
+// their boundaries (for "how far is this point from a boundary"). Solid ids: spheres, then cones
+// (all edges, face edges included, deduplicated), then slabs.
+class Envelope {
+ public:
+  explicit Envelope(const MedialMesh& medial) : spheres_(medial.spheres) {
+    check_medial(medial);
+    std::vector<std::array<int, 2>> edges = medial.edges;
+    for (const auto& f : medial.faces) {
+      edges.push_back({f[0], f[1]});
+      edges.push_back({f[1], f[2]});
+      edges.push_back({f[2], f[0]});
+    }
+    for (auto& e : edges) {
+      if (e[0] > e[1]) std::swap(e[0], e[1]);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const auto& e : edges) cones_.emplace_back(spheres_[e[0]], spheres_[e[1]]);
+    for (const auto& f : medial.faces) {
+      slabs_.emplace_back(spheres_[f[0]], spheres_[f[1]], spheres_[f[2]]);
+    }
+
+    for (const Sphere& s : spheres_) solid_boxes_.push_back(sphere_box(s.center, s.radius));
+    for (const Cone& c : cones_) solid_boxes_.push_back(c.box());
+    for (const Slab& s : slabs_) solid_boxes_.push_back(s.box());
+    for (int i = 0; i < static_cast<int>(slabs_.size()); ++i) {
+      if (!slabs_[i].has_planes) continue;
+      for (const auto& t : slabs_[i].triangles) {
+        triangles_.push_back(t);
+        triangle_slab_.push_back(i);
+      }
+    }
+    // Boundary pieces: sphere surfaces, cone surfaces, tangent triangles.
+    piece_boxes_.assign(solid_boxes_.begin(),
+                        solid_boxes_.begin() + spheres_.size() + cones_.size());
+    for (const auto& t : triangles_) {
+      piece_boxes_.push_back(Box(t[0]).extend(t[1]).extend(t[2]));
+    }
+    solid_tree_.emplace(solid_boxes_);
+    piece_tree_.emplace(piece_boxes_);
+  }
+  Envelope(const Envelope&) = delete;  // the trees refer to the box vectors
+  Envelope& operator=(const Envelope&) = delete;
+
+  // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle.
+  double boundary_distance(const Vec3& p) const {
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    return piece_tree_->nearest(p, [&](int id) {
+      if (id < spheres) return std::abs((p - spheres_[id].center).norm() - spheres_[id].radius);
+      if (id < spheres + cones) return std::abs(cones_[id - spheres].signed_distance(p));
+      const auto& t = triangles_[id - spheres - cones];
+      return point_triangle_distance(p, t[0], t[1], t[2]);
+    });
+  }
+
+  std::vector<Vec3> visible_samples(double spacing, double tolerance) const {
+    std::vector<Vec3> points;
+    std::vector<int> owners;  // solid whose boundary the sample is on
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    for (int i = 0; i < spheres; ++i) sample_sphere(spheres_[i], spacing, i, points, owners);
+    for (int i = 0; i < cones; ++i) sample_cone(cones_[i], spacing, spheres + i, points, owners);
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+      sample_triangle(triangles_[i], spacing, spheres + cones + triangle_slab_[i], points, owners);
+    }
+
+    const auto count = static_cast<std::ptrdiff_t>(points.size());
+    std::vector<char> visible(points.size());
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      const Vec3& p = points[i];
+      visible[i] = !solid_tree_->any_containing(
+          p, [&](int id) { return id != owners[i] && solid_signed_distance(id, p) < -tolerance; });
+    }
+    std::vector<Vec3> result;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (visible[i]) result.push_back(points[i]);
+    }
+    return result;
+  }
+
+ private:
+  double solid_signed_distance(int id, const Vec3& p) const {
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    if (id < spheres) return (p - spheres_[id].center).norm() - spheres_[id].radius;
+    if (id < spheres + cones) return cones_[id - spheres].signed_distance(p);
+    return slabs_[id - spheres - cones].signed_distance(p);
+  }
+
+  // Fibonacci lattice: near-uniform points, about one per spacing^2 of area.
+  static void sample_sphere(const Sphere& s, double spacing, int owner, std::vector<Vec3>& points,
+                            std::vector<int>& owners) {
+    const double area = 4.0 * kPi * s.radius * s.radius;
+    const int n = std::max(4, static_cast<int>(std::ceil(area / (spacing * spacing))));
+    const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < n; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / n;
+      const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+      const double phi = golden_angle * i;
+      points.push_back(s.center + s.radius * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
+      owners.push_back(owner);
+    }
+  }
+
+  // Rings between the two circles where the lateral surface touches the spheres.
+  static void sample_cone(const Cone& c, double spacing, int owner, std::vector<Vec3>& points,
+                          std::vector<int>& owners) {
+    if (c.is_sphere) return;
+    const double start = c.r1 * c.b, end = c.h + c.r2 * c.b;
+    const double rho1 = c.r1 * c.a, rho2 = c.r2 * c.a;
+    const double slant = std::hypot(end - start, rho1 - rho2);
+    const int rings = std::max(2, static_cast<int>(std::ceil(slant / spacing)) + 1);
+    const Vec3 u = c.axis.unitOrthogonal(), v = c.axis.cross(u);
+    for (int j = 0; j < rings; ++j) {
+      const double t = static_cast<double>(j) / (rings - 1);
+      const Vec3 center = c.c1 + ((1.0 - t) * start + t * end) * c.axis;
+      const double rho = (1.0 - t) * rho1 + t * rho2;
+      const int n = std::max(3, static_cast<int>(std::ceil(2.0 * kPi * rho / spacing)));
+      for (int k = 0; k < n; ++k) {
+        const double angle = 2.0 * kPi * k / n;
+        points.push_back(center + rho * (std::cos(angle) * u + std::sin(angle) * v));
+        owners.push_back(owner);
+      }
+    }
+  }
+
+  static void sample_triangle(const std::array<Vec3, 3>& t, double spacing, int owner,
+                              std::vector<Vec3>& points, std::vector<int>& owners) {
+    const double longest =
+        std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; i + j <= n; ++j) {
+        points.push_back(t[0] + (t[1] - t[0]) * (double(i) / n) + (t[2] - t[0]) * (double(j) / n));
+        owners.push_back(owner);
+      }
+    }
+  }
+
+  std::vector<Sphere> spheres_;
+  std::vector<Cone> cones_;
+  std::vector<Slab> slabs_;
+  std::vector<std::array<Vec3, 3>> triangles_;  // tangent triangles of the slabs that have them
+  std::vector<int> triangle_slab_;
+  std::vector<Box> solid_boxes_, piece_boxes_;
+  std::optional<Bvh> solid_tree_, piece_tree_;  // built last: they refer to the box vectors
+};
+
+void check_shape(const SurfaceInput& shape) {
+  if (shape.points.empty()) throw InvalidInput("shape has no point");
+  const int n = static_cast<int>(shape.points.size());
+  for (std::size_t f = 0; f < shape.faces.size(); ++f) {
+    for (int v : shape.faces[f]) {
+      if (v < 0 || v >= n) {
+        throw InvalidInput("shape face " + std::to_string(f) + ": vertex index " +
+                           std::to_string(v) + " out of range");
+      }
+    }
+  }
+}
+
+// Input points followed by `count` area-weighted random points of the mesh's surface.
+std::vector<Vec3> surface_samples(const SurfaceInput& shape, int count, unsigned seed) {
+  std::vector<Vec3> samples = shape.points;
+  if (!shape.is_mesh() || count <= 0) return samples;
+  std::vector<double> cumulative_area;
+  double total = 0.0;
+  for (const auto& f : shape.faces) {
+    const Vec3& a = shape.points[f[0]];
+    total += 0.5 * (shape.points[f[1]] - a).cross(shape.points[f[2]] - a).norm();
+    cumulative_area.push_back(total);
+  }
+  if (!(total > 0.0)) return samples;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    const double pick = uniform(rng) * total;
+    const auto face =
+        std::min(static_cast<std::size_t>(
+                     std::upper_bound(cumulative_area.begin(), cumulative_area.end(), pick) -
+                     cumulative_area.begin()),
+                 shape.faces.size() - 1);
+    const auto& f = shape.faces[face];
+    const double r = std::sqrt(uniform(rng)), t = uniform(rng);
+    samples.push_back((1.0 - r) * shape.points[f[0]] + r * (1.0 - t) * shape.points[f[1]] +
+                      r * t * shape.points[f[2]]);
+  }
+  return samples;
+}
+
+// Distance to the input: exact point-to-triangle distance for a mesh, nearest point for a cloud.
+std::vector<double> distances_to_shape(const SurfaceInput& shape, const std::vector<Vec3>& points) {
+  std::vector<double> distances(points.size());
+  const auto count = static_cast<std::ptrdiff_t>(points.size());
+  if (!shape.is_mesh()) {
+    const KdTree tree(shape.points);
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      double squared = 0.0;
+      tree.nearest(points[i], &squared);
+      distances[i] = std::sqrt(squared);
+    }
+    return distances;
+  }
+  std::vector<Box> boxes;
+  boxes.reserve(shape.faces.size());
+  for (const auto& f : shape.faces) {
+    boxes.push_back(Box(shape.points[f[0]]).extend(shape.points[f[1]]).extend(shape.points[f[2]]));
+  }
+  const Bvh tree(boxes);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    distances[i] = tree.nearest(points[i], [&](int face) {
+      const auto& f = shape.faces[face];
+      return point_triangle_distance(points[i], shape.points[f[0]], shape.points[f[1]],
+                                     shape.points[f[2]]);
+    });
+  }
+  return distances;
+}
+
+std::pair<double, double> max_and_mean(const std::vector<double>& values) {
+  double max = 0.0, sum = 0.0;
+  for (double v : values) {
+    max = std::max(max, v);
+    sum += v;
+  }
+  return {max, values.empty() ? 0.0 : sum / static_cast<double>(values.size())};
+}
+
+}  // namespace
+
+void EvalOptions::validate() const {
+  if (surface_samples < -1) {
+    throw InvalidOption("surface_samples must be -1 (as many as vertices) or >= 0");
+  }
+  if (!(boundary_spacing >= 1e-4 && boundary_spacing <= 0.1)) {
+    throw InvalidOption("boundary_spacing must be in [1e-4, 0.1] (fraction of the diagonal)");
+  }
+  if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
+    throw InvalidOption("inside_tolerance must be in [0, 0.01] (fraction of the diagonal)");
+  }
+}
+
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Closest point by Voronoi regions (Ericson, Real-Time Collision Detection, 5.1.5).
+  const Vec3 ab = b - a, ac = c - a;
+  if (!(ab.cross(ac).squaredNorm() > 1e-24 * ab.squaredNorm() * ac.squaredNorm())) {
+    return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, c),
+                     point_segment_distance(p, c, a)});
+  }
+  const Vec3 ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  }
+  const double denominator = va + vb + vc;
+  return (p - (a + ab * (vb / denominator) + ac * (vc / denominator))).norm();
+}
+
+double round_cone_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b) {
+  return Cone(a, b).signed_distance(p);
+}
+
+double slab_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b, const Sphere& c) {
+  return Slab(a, b, c).signed_distance(p);
+}
+
+bool slab_tangent_triangles(const Sphere& a, const Sphere& b, const Sphere& c,
+                            std::array<std::array<Vec3, 3>, 2>& triangles) {
+  const Slab slab(a, b, c);
+  if (slab.has_planes) triangles = slab.triangles;
+  return slab.has_planes;
+}
+
+std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance) {
+  return Envelope(medial).visible_samples(spacing, tolerance);
+}
+
+EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
+                    const EvalOptions& options) {
+  options.validate();
+  check_shape(shape);
+  const Envelope envelope(medial);
+
+  EvalResult result;
+  Box bounds;
+  for (const Vec3& p : shape.points) bounds.extend(p);
+  result.diagonal = bounds.diagonal().norm();
+  if (!std::isfinite(result.diagonal) || !(result.diagonal > 0.0)) {
+    throw InvalidInput("shape has a non-finite coordinate or no extent");
+  }
+
+  const int random_count =
+      options.surface_samples < 0 ? static_cast<int>(shape.points.size()) : options.surface_samples;
+  const std::vector<Vec3> samples = surface_samples(shape, random_count, options.seed);
+  std::vector<double> to_medial(samples.size());
+  const auto count = static_cast<std::ptrdiff_t>(samples.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    to_medial[i] = envelope.boundary_distance(samples[i]);
+  }
+
+  const std::vector<Vec3> boundary = envelope.visible_samples(
+      options.boundary_spacing * result.diagonal, options.inside_tolerance * result.diagonal);
+  const std::vector<double> to_surface = distances_to_shape(shape, boundary);
+
+  std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
+  std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
+  result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
+  result.surface_sample_count = samples.size();
+  result.boundary_sample_count = boundary.size();
+  result.vertex_error.assign(to_medial.begin(), to_medial.begin() + shape.points.size());
+  return result;
+}
+
+}  // namespace vmas

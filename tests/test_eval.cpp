@@ -1,0 +1,521 @@
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <utility>
+
+#include "vmas/error.hpp"
+#include "vmas/eval.hpp"
+#include "vmas/io.hpp"
+
+namespace vmas {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<Vec3> fibonacci_directions(int count) {
+  std::vector<Vec3> directions(count);
+  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / count, rho = std::sqrt(1.0 - z * z);
+    directions[i] = Vec3(rho * std::cos(golden_angle * i), rho * std::sin(golden_angle * i), z);
+  }
+  return directions;
+}
+
+// Brute force for a convex hull of spheres: sd(p) = max over unit n of n.p - h(n), with the
+// support function h(n) = max_i n.c_i + r_i (exact inside and outside), over dense directions.
+// h has ridges where two spheres support the same plane (the cones' lateral normals), so those
+// circles of directions are sampled too, and the tangent planes' normals are added.
+std::vector<Vec3> hull_directions(const std::vector<Sphere>& spheres) {
+  std::vector<Vec3> directions = fibonacci_directions(40000);
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    for (std::size_t j = i + 1; j < spheres.size(); ++j) {
+      const Vec3 d = spheres[j].center - spheres[i].center;
+      const double b = (spheres[i].radius - spheres[j].radius) / d.norm();
+      if (std::abs(b) >= 1.0) continue;
+      const Vec3 axis = d.normalized(), u = axis.unitOrthogonal(), v = axis.cross(u);
+      for (int k = 0; k < 20000; ++k) {
+        const double angle = 2 * kPi * k / 20000;
+        directions.push_back(b * axis +
+                             std::sqrt(1 - b * b) * (std::cos(angle) * u + std::sin(angle) * v));
+      }
+    }
+  }
+  std::array<std::array<Vec3, 3>, 2> triangles;
+  if (spheres.size() == 3 &&
+      slab_tangent_triangles(spheres[0], spheres[1], spheres[2], triangles)) {
+    for (const auto& t : triangles) {
+      const Vec3 n = (t[0] - spheres[0].center).normalized();  // radius direction at the contact
+      directions.push_back(n);
+    }
+  }
+  return directions;
+}
+
+double hull_signed_distance(const Vec3& p, const std::vector<Sphere>& spheres) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const Vec3& n : hull_directions(spheres)) {
+    double support = -std::numeric_limits<double>::infinity();
+    for (const Sphere& s : spheres) support = std::max(support, n.dot(s.center) + s.radius);
+    best = std::max(best, n.dot(p) - support);
+  }
+  return best;
+}
+
+struct Random {
+  std::mt19937 rng;
+  explicit Random(unsigned seed) : rng(seed) {}
+  double uniform(double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  }
+  Vec3 point(double extent) {
+    return Vec3(uniform(-extent, extent), uniform(-extent, extent), uniform(-extent, extent));
+  }
+  Sphere sphere() { return {point(1.0), uniform(0.05, 0.6)}; }
+};
+
+// Unit sphere approximated by a subdivided icosahedron (vertices on the sphere).
+SurfaceInput icosphere(int subdivisions) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  SurfaceInput mesh;
+  mesh.points = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  mesh.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (auto& p : mesh.points) p.normalize();
+  for (int level = 0; level < subdivisions; ++level) {
+    std::map<std::pair<int, int>, int> midpoints;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      const auto found = midpoints.find(key);
+      if (found != midpoints.end()) return found->second;
+      mesh.points.push_back((mesh.points[a] + mesh.points[b]).normalized());
+      return midpoints[key] = static_cast<int>(mesh.points.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> faces;
+    for (const auto& f : mesh.faces) {
+      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+      faces.insert(faces.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
+    }
+    mesh.faces = std::move(faces);
+  }
+  return mesh;
+}
+
+// Capsule of radius r around the segment from (0,0,-half) to (0,0,half): rings of `segments`
+// vertices (hemisphere latitudes, then the cylinder), closed by the two poles.
+SurfaceInput capsule(double r, double half, int segments) {
+  std::vector<std::pair<double, double>> rings;  // (z, ring radius)
+  const int latitudes = segments / 4;
+  for (int i = 1; i <= latitudes; ++i) {
+    const double angle = kPi / 2 * i / latitudes;
+    rings.push_back({half + r * std::cos(angle), r * std::sin(angle)});
+  }
+  const int lengthwise = static_cast<int>(std::ceil(2 * half / (2 * kPi * r / segments)));
+  for (int i = 1; i < lengthwise; ++i) rings.push_back({half - 2 * half * i / lengthwise, r});
+  for (int i = latitudes; i >= 1; --i) {
+    const double angle = kPi / 2 * i / latitudes;
+    rings.push_back({-half - r * std::cos(angle), r * std::sin(angle)});
+  }
+  SurfaceInput mesh;
+  mesh.points.push_back({0, 0, half + r});
+  for (const auto& [z, rho] : rings) {
+    for (int k = 0; k < segments; ++k) {
+      const double angle = 2 * kPi * k / segments;
+      mesh.points.push_back({rho * std::cos(angle), rho * std::sin(angle), z});
+    }
+  }
+  mesh.points.push_back({0, 0, -half - r});
+  const int bottom = static_cast<int>(mesh.points.size()) - 1;
+  auto at = [&](int ring, int k) { return 1 + ring * segments + (k % segments); };
+  for (int k = 0; k < segments; ++k) {
+    mesh.faces.push_back({0, at(0, k), at(0, k + 1)});
+    for (int ring = 0; ring + 1 < static_cast<int>(rings.size()); ++ring) {
+      mesh.faces.push_back({at(ring, k), at(ring + 1, k), at(ring + 1, k + 1)});
+      mesh.faces.push_back({at(ring, k), at(ring + 1, k + 1), at(ring, k + 1)});
+    }
+    const int last = static_cast<int>(rings.size()) - 1;
+    mesh.faces.push_back({bottom, at(last, k + 1), at(last, k)});
+  }
+  return mesh;
+}
+
+// Brute force outside a hull of spheres: the distance to the union of the interpolated spheres
+// c(t), r(t) over a dense grid of barycentric coordinates (two or three spheres).
+double interpolated_distance(const Vec3& p, const std::vector<Sphere>& spheres, int steps) {
+  double best = std::numeric_limits<double>::infinity();
+  const int k_steps = spheres.size() == 3 ? steps : 0;
+  for (int i = 0; i <= steps; ++i) {
+    for (int k = 0; k <= std::min(k_steps, steps - i); ++k) {
+      const double t1 = double(i) / steps, t2 = double(k) / steps, t0 = 1.0 - t1 - t2;
+      Vec3 center = t0 * spheres[0].center + t1 * spheres[1].center;
+      double radius = t0 * spheres[0].radius + t1 * spheres[1].radius;
+      if (spheres.size() == 3) {
+        center += t2 * spheres[2].center;
+        radius += t2 * spheres[2].radius;
+      }
+      best = std::min(best, (p - center).norm() - radius);
+    }
+  }
+  return best;
+}
+
+// Points around a hull of spheres: near its surface (inside and outside) and farther away.
+std::vector<Vec3> points_around(const std::vector<Sphere>& spheres, Random& random, int count) {
+  std::vector<Vec3> points;
+  for (int i = 0; i < count; ++i) {
+    const Sphere& s = spheres[i % spheres.size()];
+    const Sphere& t = spheres[(i + 1) % spheres.size()];
+    const double w = random.uniform(0.0, 1.0), scale = i % 4 == 0 ? 4.0 : 1.5;
+    const Vec3 direction = random.point(1.0).normalized();
+    points.push_back((1 - w) * s.center + w * t.center +
+                     random.uniform(0.0, scale) * ((1 - w) * s.radius + w * t.radius) * direction);
+  }
+  return points;
+}
+
+TEST(EvalGeometry, RoundConeMatchesBruteForce) {
+  Random random(7);
+  int inside = 0;
+  for (int config = 0; config < 20; ++config) {
+    const Sphere a = random.sphere(), b = random.sphere();
+    for (const Vec3& p : points_around({a, b}, random, 15)) {
+      const double value = round_cone_signed_distance(p, a, b);
+      EXPECT_NEAR(value, round_cone_signed_distance(p, b, a), 1e-12);
+      // Exact on both sides; finitely many directions underestimate by O(spacing^2).
+      const double support = hull_signed_distance(p, {a, b});
+      EXPECT_GE(value, support - 1e-12);
+      EXPECT_LE(value, support + 5e-4);
+      if (value > 0.0) EXPECT_NEAR(value, interpolated_distance(p, {a, b}, 20000), 1e-6);
+      inside += value < 0.0;
+    }
+  }
+  EXPECT_GT(inside, 60);  // the interior formula was exercised
+}
+
+TEST(EvalGeometry, SlabMatchesBruteForceOutsideAndSignInside) {
+  Random random(11);
+  int inside = 0, with_planes = 0;
+  for (int config = 0; config < 20; ++config) {
+    const Sphere a = random.sphere(), b = random.sphere(), c = random.sphere();
+    std::array<std::array<Vec3, 3>, 2> triangles;
+    with_planes += slab_tangent_triangles(a, b, c, triangles);
+    for (const Vec3& p : points_around({a, b, c}, random, 15)) {
+      const double value = slab_signed_distance(p, a, b, c);
+      EXPECT_NEAR(value, slab_signed_distance(p, c, a, b), 1e-12);
+      const double support = hull_signed_distance(p, {a, b, c});
+      EXPECT_GE(value, support - 1e-12);  // inside: the magnitude is at most the depth
+      if (support > 5e-4) {
+        EXPECT_LE(value, support + 5e-4);
+        EXPECT_NEAR(value, interpolated_distance(p, {a, b, c}, 300), 1e-4);
+      } else if (support < -5e-4) {
+        EXPECT_LT(value, 0.0);
+        ++inside;
+      }
+    }
+  }
+  EXPECT_GT(inside, 60);
+  EXPECT_GT(with_planes, 10);
+}
+
+TEST(EvalGeometry, TangentTrianglesTouchAllThreeSpheres) {
+  Random random(13);
+  int checked = 0;
+  for (int config = 0; config < 50; ++config) {
+    const std::array<Sphere, 3> s{random.sphere(), random.sphere(), random.sphere()};
+    std::array<std::array<Vec3, 3>, 2> triangles;
+    if (!slab_tangent_triangles(s[0], s[1], s[2], triangles)) continue;
+    ++checked;
+    for (const auto& t : triangles) {
+      // The plane's outward normal points away from the medial triangle.
+      Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+      if (normal.dot(s[0].center - t[0]) > 0.0) normal = -normal;
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR((t[i] - s[i].center).norm(), s[i].radius, 1e-9);      // on sphere i
+        EXPECT_NEAR(normal.dot(s[i].center - t[0]), -s[i].radius, 1e-9);  // plane tangent to it
+        EXPECT_NEAR(slab_signed_distance(t[i], s[0], s[1], s[2]), 0.0, 1e-9);
+      }
+      EXPECT_NEAR(slab_signed_distance((t[0] + t[1] + t[2]) / 3 + 0.1 * normal, s[0], s[1], s[2]),
+                  0.1, 1e-9);
+    }
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(EvalGeometry, DegenerateConesAndSlabs) {
+  const Sphere big{Vec3(0, 0, 0), 1.0}, small{Vec3(0.3, 0, 0), 0.5}, far{Vec3(3, 0, 0), 0.5};
+  const Vec3 p(0.2, 1.7, -0.4);
+  // One sphere inside the other: the cone is the bigger sphere.
+  EXPECT_NEAR(round_cone_signed_distance(p, big, small), p.norm() - 1.0, 1e-12);
+  EXPECT_NEAR(round_cone_signed_distance(p, small, big), p.norm() - 1.0, 1e-12);
+  EXPECT_NEAR(round_cone_signed_distance(p, big, big), p.norm() - 1.0, 1e-12);
+  // Equal radii: a capsule, distance to the segment minus the radius.
+  const Sphere left{Vec3(0, 0, 0), 0.5}, right{Vec3(2, 0, 0), 0.5};
+  EXPECT_NEAR(round_cone_signed_distance(Vec3(1, 0.2, 0), left, right), -0.3, 1e-12);
+  EXPECT_NEAR(round_cone_signed_distance(Vec3(2.5, 1, 0), left, right), std::hypot(0.5, 1.0) - 0.5,
+              1e-12);
+
+  std::array<std::array<Vec3, 3>, 2> triangles;
+  // Collinear centres: no tangent triangle, the slab is the union of its cones.
+  const Sphere middle{Vec3(1.5, 0, 0), 0.7};
+  EXPECT_FALSE(slab_tangent_triangles(left, middle, far, triangles));
+  for (const Vec3& q : {Vec3(1.5, 0.9, 0.1), Vec3(0.7, 0.3, 0), Vec3(4, 1, 1)}) {
+    const double cones = std::min({round_cone_signed_distance(q, left, middle),
+                                   round_cone_signed_distance(q, middle, far),
+                                   round_cone_signed_distance(q, left, far)});
+    EXPECT_NEAR(slab_signed_distance(q, left, middle, far), cones, 1e-12);
+  }
+  // One sphere inside another: no tangent triangle either.
+  EXPECT_FALSE(slab_tangent_triangles(big, small, far, triangles));
+  EXPECT_NEAR(slab_signed_distance(Vec3(1.5, 2, 0), big, small, far),
+              round_cone_signed_distance(Vec3(1.5, 2, 0), big, far), 1e-12);
+  // Equal radii: the tangent planes are parallel to the centres' plane at distance r.
+  const Sphere top{Vec3(1, 2, 0), 0.5};
+  ASSERT_TRUE(slab_tangent_triangles(left, right, top, triangles));
+  EXPECT_NEAR(std::abs(triangles[0][0].z()), 0.5, 1e-12);
+  EXPECT_NEAR(slab_signed_distance(Vec3(1, 0.5, 2), left, right, top), 1.5, 1e-12);
+  EXPECT_NEAR(slab_signed_distance(Vec3(1, 0.5, 0.1), left, right, top), -0.4, 1e-12);
+}
+
+TEST(EvalGeometry, PointTriangleDistance) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_NEAR(point_triangle_distance(Vec3(0.2, 0.2, 0.5), a, b, c), 0.5, 1e-12);
+  EXPECT_NEAR(point_triangle_distance(Vec3(-1, -1, 0), a, b, c), std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(point_triangle_distance(Vec3(1, 1, 0), a, b, c), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(point_triangle_distance(Vec3(0.5, -2, 0), a, b, c), 2.0, 1e-12);
+  // Degenerate (collinear) triangle: distance to its longest segment.
+  EXPECT_NEAR(point_triangle_distance(Vec3(0.5, 1, 0), a, b, Vec3(0.5, 0, 0)), 1.0, 1e-12);
+  EXPECT_NEAR(point_triangle_distance(Vec3(3, 0, 0), a, a, a), 3.0, 1e-12);
+}
+
+TEST(Eval, SphereAgainstItsMedialSphereIsAlmostExact) {
+  const SurfaceInput mesh = icosphere(4);
+  MedialMesh medial;
+  medial.spheres = {{Vec3::Zero(), 1.0}};
+  const EvalResult result = evaluate(mesh, medial);
+  EXPECT_NEAR(result.diagonal, 2.0 * std::sqrt(3.0), 0.05);
+  EXPECT_LT(result.hausdorff, 3e-3);  // chordal error of the tessellation
+  EXPECT_LT(result.percent(result.hausdorff), 0.1);
+  ASSERT_EQ(result.vertex_error.size(), mesh.points.size());
+  for (double e : result.vertex_error) EXPECT_NEAR(e, 0.0, 1e-12);  // vertices lie on the sphere
+  EXPECT_EQ(result.surface_sample_count, 2 * mesh.points.size());
+  EXPECT_GT(result.boundary_sample_count, 500u);
+}
+
+TEST(Eval, ShiftedSphereGivesTheShift) {
+  const SurfaceInput mesh = icosphere(4);
+  MedialMesh medial;
+  medial.spheres = {{Vec3(0.1, 0, 0), 1.0}};
+  const EvalResult result = evaluate(mesh, medial);
+  EXPECT_NEAR(result.surface_to_medial_max, 0.1, 3e-3);
+  EXPECT_NEAR(result.medial_to_surface_max, 0.1, 3e-3);
+  EXPECT_NEAR(result.hausdorff, 0.1, 3e-3);
+  EXPECT_GT(result.surface_to_medial_mean, 0.03);  // mean |x| over the sphere is 0.05
+  EXPECT_LT(result.surface_to_medial_mean, 0.07);
+}
+
+TEST(Eval, CapsuleAgainstItsRoundCone) {
+  const SurfaceInput mesh = capsule(0.5, 1.0, 64);
+  MedialMesh medial;
+  medial.spheres = {{Vec3(0, 0, -1), 0.5}, {Vec3(0, 0, 1), 0.5}};
+  medial.edges = {{0, 1}};
+  const EvalResult result = evaluate(mesh, medial);
+  EXPECT_LT(result.hausdorff, 2e-3);
+  // Without the edge the waist is far from both spheres' boundaries, and the inner halves of the
+  // spheres are half a radius from the cylinder wall.
+  medial.edges.clear();
+  const EvalResult spheres_only = evaluate(mesh, medial);
+  EXPECT_NEAR(spheres_only.surface_to_medial_max, std::sqrt(1.25) - 0.5, 0.01);
+  EXPECT_NEAR(spheres_only.medial_to_surface_max, 0.5, 0.01);
+}
+
+TEST(Eval, PointInsideAPrimitiveMeasuresToItsBoundary) {
+  // A cloud of two points inside a sphere: each is as far from the reconstruction as from the
+  // sphere's boundary (the distance to a boundary, not to the solid).
+  SurfaceInput cloud;
+  cloud.points = {Vec3(0.2, 0, 0), Vec3(-0.5, 0, 0)};
+  MedialMesh medial;
+  medial.spheres = {{Vec3::Zero(), 1.0}};
+  EvalOptions options;
+  options.boundary_spacing = 0.01;  // the diagonal is small against the sphere
+  const EvalResult result = evaluate(cloud, medial, options);
+  ASSERT_EQ(result.vertex_error.size(), 2u);
+  EXPECT_NEAR(result.vertex_error[0], 0.8, 1e-12);
+  EXPECT_NEAR(result.vertex_error[1], 0.5, 1e-12);
+  EXPECT_EQ(result.surface_sample_count, 2u);  // clouds get no extra samples
+  // The sphere point farthest from both points is equidistant from them, at x = -0.15.
+  EXPECT_NEAR(result.medial_to_surface_max, std::sqrt(1.1), 0.01);
+}
+
+// A random medial mesh with edges and faces (some degenerate) around a sphere shape.
+MedialMesh random_medial(unsigned seed) {
+  Random random(seed);
+  MedialMesh medial;
+  for (int i = 0; i < 25; ++i)
+    medial.spheres.push_back({random.point(0.7), random.uniform(0.05, 0.4)});
+  medial.spheres.push_back({medial.spheres[0].center, 0.5 * medial.spheres[0].radius});
+  std::uniform_int_distribution<int> index(0, 25);
+  for (int i = 0; i < 30; ++i) {
+    const int a = index(random.rng), b = index(random.rng);
+    if (a != b) medial.edges.push_back({a, b});
+  }
+  for (int i = 0; i < 15; ++i) {
+    const int a = index(random.rng), b = index(random.rng), c = index(random.rng);
+    if (a != b && b != c && a != c) medial.faces.push_back({a, b, c});
+  }
+  medial.faces.push_back({0, 25, 1});  // sphere 25 inside sphere 0
+  return medial;
+}
+
+TEST(Eval, AcceleratedDistancesEqualBruteForce) {
+  const SurfaceInput mesh = icosphere(3);
+  const MedialMesh medial = random_medial(5);
+  EvalOptions options;
+  options.boundary_spacing = 0.01;
+  const EvalResult result = evaluate(mesh, medial, options);
+
+  // Surface -> medial: min over every boundary piece, all pairs.
+  std::vector<std::array<int, 2>> edges = medial.edges;
+  for (const auto& f : medial.faces)
+    edges.insert(edges.end(), {{f[0], f[1]}, {f[1], f[2]}, {f[2], f[0]}});
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (const auto& f : medial.faces) {
+    std::array<std::array<Vec3, 3>, 2> pair;
+    if (slab_tangent_triangles(medial.spheres[f[0]], medial.spheres[f[1]], medial.spheres[f[2]],
+                               pair)) {
+      triangles.insert(triangles.end(), pair.begin(), pair.end());
+    }
+  }
+  ASSERT_GT(triangles.size(), 10u);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    const Vec3& p = mesh.points[v];
+    double best = std::numeric_limits<double>::infinity();
+    for (const Sphere& s : medial.spheres)
+      best = std::min(best, std::abs((p - s.center).norm() - s.radius));
+    for (const auto& e : edges) {
+      best = std::min(best, std::abs(round_cone_signed_distance(p, medial.spheres[e[0]],
+                                                                medial.spheres[e[1]])));
+    }
+    for (const auto& t : triangles)
+      best = std::min(best, point_triangle_distance(p, t[0], t[1], t[2]));
+    EXPECT_NEAR(result.vertex_error[v], best, 1e-12) << "vertex " << v;
+  }
+
+  // Medial -> surface: every visible sample against every input triangle.
+  const std::vector<Vec3> samples =
+      envelope_samples(medial, options.boundary_spacing * result.diagonal,
+                       options.inside_tolerance * result.diagonal);
+  ASSERT_EQ(samples.size(), result.boundary_sample_count);
+  double max = 0.0;
+  for (const Vec3& q : samples) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& f : mesh.faces) {
+      best = std::min(best, point_triangle_distance(q, mesh.points[f[0]], mesh.points[f[1]],
+                                                    mesh.points[f[2]]));
+    }
+    max = std::max(max, best);
+    // Visible: inside no primitive (beyond the tolerance).
+    for (const Sphere& s : medial.spheres) ASSERT_GT((q - s.center).norm() - s.radius, -1e-5);
+    for (const auto& e : edges) {
+      ASSERT_GT(round_cone_signed_distance(q, medial.spheres[e[0]], medial.spheres[e[1]]), -1e-5);
+    }
+    for (const auto& f : medial.faces) {
+      ASSERT_GT(
+          slab_signed_distance(q, medial.spheres[f[0]], medial.spheres[f[1]], medial.spheres[f[2]]),
+          -1e-5);
+    }
+  }
+  EXPECT_DOUBLE_EQ(result.medial_to_surface_max, max);
+}
+
+TEST(Eval, DeterministicAcrossThreadCounts) {
+  const SurfaceInput mesh = icosphere(3);
+  const MedialMesh medial = random_medial(9);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const EvalResult one = evaluate(mesh, medial);
+  omp_set_num_threads(2);
+  const EvalResult two = evaluate(mesh, medial);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one.hausdorff, two.hausdorff);
+  EXPECT_EQ(one.surface_to_medial_mean, two.surface_to_medial_mean);
+  EXPECT_EQ(one.medial_to_surface_mean, two.medial_to_surface_mean);
+  EXPECT_EQ(one.vertex_error, two.vertex_error);
+  EvalOptions options;
+  options.seed = 2;
+  EXPECT_NE(evaluate(mesh, medial, options).surface_to_medial_mean, one.surface_to_medial_mean);
+}
+
+TEST(Eval, BadInputsThrow) {
+  const SurfaceInput mesh = icosphere(1);
+  MedialMesh medial;
+  EXPECT_THROW(evaluate(mesh, medial), InvalidInput);  // no sphere
+  medial.spheres = {{Vec3::Zero(), 0.5}, {Vec3(0.5, 0, 0), 0.2}};
+  EXPECT_NO_THROW(evaluate(mesh, medial));
+
+  MedialMesh bad = medial;
+  bad.edges = {{0, 2}};
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+  bad.edges = {{1, 1}};
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+  bad = medial;
+  bad.faces = {{0, 1, -1}};
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+  EXPECT_THROW(envelope_samples(bad, 0.01, 0.0), InvalidInput);
+  bad = medial;
+  bad.spheres[1].radius = std::nan("");
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+  bad.spheres[1].radius = -0.1;
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+  bad = medial;
+  bad.spheres[0].center.x() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(evaluate(mesh, bad), InvalidInput);
+
+  EXPECT_THROW(evaluate(SurfaceInput{}, medial), InvalidInput);
+  SurfaceInput broken = mesh;
+  broken.faces.push_back({0, 1, static_cast<int>(mesh.points.size())});
+  EXPECT_THROW(evaluate(broken, medial), InvalidInput);
+
+  EvalOptions options;
+  options.surface_samples = -2;
+  EXPECT_THROW(options.validate(), InvalidOption);
+  EXPECT_THROW(evaluate(mesh, medial, options), InvalidOption);
+  options = {};
+  options.boundary_spacing = 0.0;
+  EXPECT_THROW(options.validate(), InvalidOption);
+  options = {};
+  options.inside_tolerance = -1.0;
+  EXPECT_THROW(options.validate(), InvalidOption);
+}
+
+// The paper's Table 1 on the reference medial meshes (ε in % of the diagonal).
+TEST(EvalReference, ReproducesPaperTable1) {
+  const std::string data = VMAS_SHARED_DATA;
+  if (!std::filesystem::exists(data + "/reference")) {
+    GTEST_SKIP() << "shared data not found at " << data;
+  }
+  struct Case {
+    const char* model;
+    const char* method;
+    double paper;
+  };
+  for (const Case& c :
+       {Case{"armadillo", "qmat", 3.860}, Case{"armadillo", "coverage_axis_pp", 3.905},
+        Case{"pinion", "qmat", 2.194}, Case{"vessel", "coverage_axis", 3.054}}) {
+    const SurfaceInput mesh = read_surface(data + "/meshes/" + c.model + ".off");
+    const MedialMesh medial =
+        read_medial_mesh(data + "/reference/" + c.model + "/" + c.method + ".ma");
+    const EvalResult result = evaluate(mesh, medial);
+    EXPECT_NEAR(result.percent(result.hausdorff), c.paper, 0.4) << c.model << " " << c.method;
+  }
+}
+
+}  // namespace
+}  // namespace vmas
