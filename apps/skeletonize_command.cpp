@@ -77,8 +77,8 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("spheres,n", po::value(&options.target_spheres),
        "number of medial spheres to produce (met exactly; default 100 when --error is absent)")
       ("error,e", po::value(&options.error_threshold),
-       "instead of a count: split until every cluster's RMS error is below E "
-       "(relative to the bounding-box diagonal, e.g. 0.002)")
+       "instead of a count: split until every vertex's error sqrt(E_v/A_v) is below E "
+       "(relative to the bounding-box diagonal, e.g. 0.005)")
       ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
       ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
@@ -94,10 +94,17 @@ int skeletonize_command(int argc, const char* const* argv) {
        "split (or stop) once the total error changes by less than this fraction per step")
       ("split-interval", po::value(&options.split_interval)->default_value(defaults.split_interval),
        "split at least every this many steps while spheres are missing")
+      ("splits-per-round", po::value(&options.split.max_per_round)
+           ->default_value(defaults.split.max_per_round),
+       "at most this many spheres are added per split round (and at most 20 % of the count)")
       ("denoise-angle", po::value(&options.shrinking_ball.denoise_angle_deg)
            ->default_value(defaults.shrinking_ball.denoise_angle_deg),
        "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
        "disables it")
+      ("ball-tolerance", po::value(&options.shrinking_ball.tolerance)
+           ->default_value(defaults.shrinking_ball.tolerance, "1e-05"),
+       "shrinking ball: samples this close inside the ball do not shrink it (fraction of the "
+       "diagonal); raise it to about the noise level for noisy scans")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
       ("quiet,q", "print nothing but errors");
   po::options_description hidden;

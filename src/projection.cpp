@@ -31,6 +31,16 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
 }
 
 Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
+  bool shrunk = false;
+  const Sphere ball = shrink_along(vertex, inward, shrunk);
+  if (shrunk) return ball;
+  // Nothing inside the first, huge ball: `inward` points out of the shape (a normal flipped by
+  // noise). The other side is the inside; if it is empty too (an open scan), keep the first ball.
+  const Sphere reverse = shrink_along(vertex, -inward, shrunk);
+  return shrunk ? reverse : ball;
+}
+
+Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, bool& shrunk) const {
   const Vec3& p = shape_.points[vertex];
   const double delta = options_.tolerance * shape_.diagonal;
   double radius = options_.initial_radius * shape_.diagonal;
@@ -52,6 +62,7 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
     }
     radius = next_radius;
     center = next_center;
+    shrunk = true;
   }
   return Sphere{center, radius};
 }

@@ -94,7 +94,7 @@ bool Skeletonizer::reseed_tiny_clusters() {
   }
   if (tiny.empty()) return false;
   std::stable_sort(donors.begin(), donors.end(),
-                   [&](int a, int b) { return cluster_errors_[a] > cluster_errors_[b]; });
+                   [&](int a, int b) { return worst_errors_[a] > worst_errors_[b]; });
   const std::size_t moved = std::min(tiny.size(), donors.size());
   for (std::size_t i = 0; i < moved; ++i) {
     const int worst = worst_vertex(donors[i]);
@@ -112,24 +112,24 @@ int Skeletonizer::worst_vertex(int cluster) const {
 
 void Skeletonizer::refresh_errors(bool spheres_moved) {
   const int count = static_cast<int>(spheres_.size());
+  std::vector<double> cluster_energy(count, 0.0);
   cluster_errors_.assign(count, 0.0);
-  total_error_ = 0.0;
+  worst_errors_.assign(count, 0.0);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < count; ++c) {
-    double energy = 0.0;
     double area = 0.0;
     for (int v : members_[c]) {
-      if (spheres_moved) vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
-      energy += vertex_energies_[v];
+      if (spheres_moved)
+        vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
+      cluster_energy[c] += vertex_energies_[v];
       area += shape_.area[v];
+      if (shape_.area[v] > 0.0)
+        worst_errors_[c] = std::max(worst_errors_[c], vertex_energies_[v] / shape_.area[v]);
     }
-    cluster_errors_[c] = area > 0.0 ? energy / area : 0.0;
+    cluster_errors_[c] = area > 0.0 ? cluster_energy[c] / area : 0.0;
   }
-  for (int c = 0; c < count; ++c) {
-    double area = 0.0;
-    for (int v : members_[c]) area += shape_.area[v];
-    total_error_ += cluster_errors_[c] * area;
-  }
+  total_error_ = 0.0;
+  for (double energy : cluster_energy) total_error_ += energy;
   total_error_ /= shape_.total_area;
 }
 
@@ -164,7 +164,7 @@ bool Skeletonizer::wants_more_spheres() const {
   if (count >= options_.max_spheres) return false;
   const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
   for (int c = 0; c < count; ++c)
-    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
+    if (!frozen_[c] && worst_errors_[c] > threshold) return true;
   return false;
 }
 
@@ -180,8 +180,10 @@ int Skeletonizer::split() {
   std::vector<bool> eligible(count);
   for (int c = 0; c < count; ++c)
     eligible[c] = !frozen_[c] && static_cast<int>(members_[c].size()) >= 2;
+  // Ranked by their worst vertex rather than by E(C) (eq. 12): the quality that users measure
+  // is a Hausdorff distance, and a well fitted cluster can still leave a tip uncovered.
   const auto chosen = select_clusters_to_split(
-      cluster_errors_, cluster_adjacency(shape_, labels_, count), eligible, threshold, max_count);
+      worst_errors_, cluster_adjacency(shape_, labels_, count), eligible, threshold, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
     spheres_.push_back(projector_.shrink(worst, -shape_.normals[worst]));

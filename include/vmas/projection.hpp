@@ -20,7 +20,8 @@ class MedialProjector {
  public:
   MedialProjector(const Shape& shape, const ShrinkingBallOptions& options);
 
-  // The largest empty ball touching `vertex` whose centre lies along the unit `inward` direction.
+  // The largest empty ball touching `vertex` whose centre lies along the unit `inward` direction
+  // (or along −inward when nothing lies on the `inward` side: a flipped normal).
   Sphere shrink(int vertex, const Vec3& inward) const;
 
   // Moves a fitted sphere centre onto the medial axis: the shrinking ball from the input point
@@ -30,6 +31,9 @@ class MedialProjector {
   const KdTree& tree() const { return tree_; }
 
  private:
+  // One shrinking-ball run; `shrunk` tells whether any sample was found inside the first ball.
+  Sphere shrink_along(int vertex, const Vec3& inward, bool& shrunk) const;
+
   const Shape& shape_;
   ShrinkingBallOptions options_;
   KdTree tree_;

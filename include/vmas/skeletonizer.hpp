@@ -18,8 +18,8 @@ namespace vmas {
 struct SkeletonizerOptions {
   double lambda = 0.2;            // weight of the point–sphere term (eq. 8, 11)
   int target_spheres = 0;         // stop splitting at this many spheres (0: no count target)
-  double error_threshold = 0.0;   // split clusters whose RMS error √E(C) exceeds this, relative
-                                  // to the diagonal (0: no error target)
+  double error_threshold = 0.0;   // split clusters until no vertex error √(E_v / A(v)) exceeds
+                                  // this, relative to the diagonal (0: no error target)
   int max_spheres = 5000;         // hard cap when only an error threshold is given
   int max_iterations = 3000;      // partition + update steps in run()
   double convergence = 1e-3;      // converged when the total error changes by less (relative)
@@ -77,6 +77,8 @@ class Skeletonizer {
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
+  // max E_v / A(v) over each cluster: what splitting ranks by and the error threshold bounds.
+  const std::vector<double>& worst_errors() const { return worst_errors_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
   const SkeletonizerOptions& options() const { return options_; }
@@ -86,7 +88,7 @@ class Skeletonizer {
  private:
   void repartition();           // partition, then refresh members and errors
   bool reseed_tiny_clusters();  // moves spheres with too few vertices; true if any moved
-  int worst_vertex(int cluster) const;  // the member with the largest E_v
+  int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   bool wants_more_spheres() const;
   void check_id(int id) const;
@@ -100,6 +102,7 @@ class Skeletonizer {
   std::vector<double> vertex_energies_;
   std::vector<std::vector<int>> members_;
   std::vector<double> cluster_errors_;
+  std::vector<double> worst_errors_;
   double total_error_ = 0.0;
   StageTimes times_;
 };
