@@ -116,7 +116,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
-    std::cout << visible << "\nexample: vmas skeletonize clouds/dove.off --spheres 76 -o dove.ply\n";
+    std::cout << visible << "\nexample: vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n";
     return 0;
   }
   po::notify(vm);
