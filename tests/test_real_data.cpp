@@ -1,6 +1,5 @@
 // Loose checks on the real models and scans in ../shared/data (skipped when it is absent).
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <filesystem>
 #include <fstream>
@@ -97,29 +96,6 @@ TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
   EXPECT_EQ(connected_components(mesh), 1);
   // Medial balls of a closed-ish scan are small next to the shape.
   for (const Sphere& s : mesh.spheres) EXPECT_LT(s.radius, 0.5 * skeletonizer.shape().diagonal);
-}
-
-TEST(Determinism, SameOutputWithOneAndTwoThreads) {
-  REQUIRE_DATA("meshes/bear.off");
-  const SurfaceInput surface = read_surface(data_path("meshes/bear.off"));
-  SkeletonizerOptions options;
-  options.target_spheres = 30;
-  std::vector<MedialMesh> results;
-  const int threads_before = omp_get_max_threads();
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    Skeletonizer skeletonizer(build_shape(surface, {}), options);
-    skeletonizer.run();
-    results.push_back(skeletonizer.medial_mesh());
-  }
-  omp_set_num_threads(threads_before);
-  ASSERT_EQ(results[0].spheres.size(), results[1].spheres.size());
-  for (std::size_t i = 0; i < results[0].spheres.size(); ++i) {
-    EXPECT_EQ(results[0].spheres[i].center, results[1].spheres[i].center);
-    EXPECT_EQ(results[0].spheres[i].radius, results[1].spheres[i].radius);
-  }
-  EXPECT_EQ(results[0].edges, results[1].edges);
-  EXPECT_EQ(results[0].faces, results[1].faces);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
 
 #include "test_shapes.hpp"
@@ -120,6 +122,27 @@ TEST(Skeletonizer, BadOptionsAreRejected) {
   options.lambda = 0.2;
   options.target_spheres = shape.size() + 1;
   EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
+}
+
+TEST(Skeletonizer, SameOutputWithOneAndTwoThreads) {
+  const Shape shape = build_shape(test::torus(1.0, 0.3, 240, 40), {});
+  std::vector<MedialMesh> results;
+  const int threads_before = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Skeletonizer skeletonizer(Shape(shape), with_target(30));
+    skeletonizer.run();
+    results.push_back(skeletonizer.medial_mesh());
+  }
+  omp_set_num_threads(threads_before);
+  ASSERT_EQ(results[0].spheres.size(), 30u);
+  ASSERT_EQ(results[1].spheres.size(), 30u);
+  for (std::size_t i = 0; i < results[0].spheres.size(); ++i) {
+    EXPECT_EQ(results[0].spheres[i].center, results[1].spheres[i].center);
+    EXPECT_EQ(results[0].spheres[i].radius, results[1].spheres[i].radius);
+  }
+  EXPECT_EQ(results[0].edges, results[1].edges);
+  EXPECT_EQ(results[0].faces, results[1].faces);
 }
 
 }  // namespace

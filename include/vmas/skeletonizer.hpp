@@ -22,7 +22,7 @@ struct SkeletonizerOptions {
                                   // this, relative to the diagonal (0: no error target)
   int max_spheres = 5000;         // hard cap when only an error threshold is given
   int max_iterations = 3000;      // partition + update steps in run()
-  double convergence = 1e-3;      // converged when the total error changes by less (relative)
+  double convergence = 1e-4;      // converged when the total error changes by less (relative)
   int split_interval = 10;        // split at least every this many steps while spheres are missing
   int settle_iterations = 3;      // steps after the last split before run() may stop
   int max_settle_iterations = 30; // ... and after which it stops even if not converged
