@@ -760,6 +760,7 @@ MedialMesh parse_ply_medial(const std::string& path, std::string_view bytes) {
 // Public functions
 
 SurfaceInput read_surface(const std::string& path, CleanReport* report) {
+  check_readable(path);  // "no such file" beats "unknown extension" for a mistyped path
   const std::string extension = lower_extension(path);
   SurfaceInput surface;
   if (extension == ".pcd") {
