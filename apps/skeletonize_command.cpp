@@ -81,6 +81,9 @@ int skeletonize_command(int argc, const char* const* argv) {
        "(relative to the bounding-box diagonal, e.g. 0.005)")
       ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
+      ("final-lambda", po::value(&options.final_lambda)->default_value(defaults.final_lambda, "0.01"),
+       "lambda of one last refit once the partition has settled (spheres reach the shape's "
+       "extremities); negative: no final refit")
       ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&normal_options.k)->default_value(normal_defaults.k),

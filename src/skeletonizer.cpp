@@ -14,6 +14,9 @@ namespace vmas {
 void SkeletonizerOptions::validate() const {
   if (!(lambda >= 0.0 && lambda <= 1e6))
     throw InvalidOption("lambda must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
+  if (!(final_lambda <= 1e6))  // negative: no final refit
+    throw InvalidOption("final lambda must be at most 1e6 (got " + std::to_string(final_lambda) +
+                        ")");
   if (target_spheres < 0)
     throw InvalidOption("spheres must be at least 1 (got " + std::to_string(target_spheres) + ")");
   if (!(error_threshold >= 0.0 && error_threshold < 1.0))
@@ -138,13 +141,18 @@ double Skeletonizer::step() {
   // A cluster that shrank to a handful of vertices carries no shape information: its sphere is
   // better spent where the error is largest (this keeps the sphere count exact).
   if (reseed_tiny_clusters()) repartition();
+  fit_and_project(options_.lambda);
+  refresh_errors(true);
+  return total_error_;
+}
+
+void Skeletonizer::fit_and_project(double lambda) {
   const int count = static_cast<int>(spheres_.size());
   auto start = Clock::now();
   std::vector<Sphere> fitted = spheres_;
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < count; ++c)
-    if (!frozen_[c])
-      fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], options_.lambda, options_.update);
+    if (!frozen_[c]) fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
   times_.update += seconds_since(start);
   if (options_.project) {
     start = Clock::now();
@@ -154,8 +162,6 @@ double Skeletonizer::step() {
     times_.projection += seconds_since(start);
   }
   spheres_ = std::move(fitted);
-  refresh_errors(true);
-  return total_error_;
 }
 
 bool Skeletonizer::wants_more_spheres() const {
@@ -222,6 +228,12 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
       summary.converged = converged;
       if (converged || since_split >= options_.max_settle_iterations) break;
     }
+  }
+  if (options_.final_lambda >= 0.0) {
+    // The partition has settled; one refit with a small λ lets the spheres of extremities reach
+    // them (paper Fig. 5: a small λ fits the features), and the projection keeps them medial.
+    fit_and_project(options_.final_lambda);
+    refresh_errors(true);
   }
   summary.spheres = static_cast<int>(spheres_.size());
   summary.error = total_error_;

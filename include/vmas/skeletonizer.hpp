@@ -17,6 +17,8 @@ namespace vmas {
 
 struct SkeletonizerOptions {
   double lambda = 0.2;            // weight of the point–sphere term (eq. 8, 11)
+  double final_lambda = 0.01;     // λ of one last refit on the settled partition, which moves
+                                  // the spheres of extremities into them; negative: none
   int target_spheres = 0;         // stop splitting at this many spheres (0: no count target)
   double error_threshold = 0.0;   // split clusters until no vertex error √(E_v / A(v)) exceeds
                                   // this, relative to the diagonal (0: no error target)
@@ -64,7 +66,7 @@ class Skeletonizer {
   double step();
   // One split round (§3.4); returns the number of spheres added.
   int split();
-  // Steps and splits until the target is met and the error has settled.
+  // Steps and splits until the target is met and the error has settled, then the final refit.
   RunSummary run(const std::function<void(const Progress&)>& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
@@ -89,7 +91,8 @@ class Skeletonizer {
   void repartition();           // partition, then refresh members and errors
   bool reseed_tiny_clusters();  // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
-  void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
+  void refresh_errors(bool spheres_moved);
+  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere  // E(C) and the total; E_v too if spheres moved
   bool wants_more_spheres() const;
   void check_id(int id) const;
 
