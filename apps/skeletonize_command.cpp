@@ -1,6 +1,7 @@
 // `vmas skeletonize`: input shape → medial mesh (PLY or .ma), optionally per-point labels.
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
@@ -190,6 +191,15 @@ int skeletonize_command(int argc, const char* const* argv) {
                    p.error);
   });
   if (show_progress) std::fprintf(stderr, "\n");
+  // A ball that never shrank found no sample on either side: the surface is open there (a
+  // single-view scan, a hole), and such a sphere is no medial ball.
+  const double unbounded = 0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
+  const auto open_spheres = std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
+                                          [&](const Sphere& s) { return s.radius >= unbounded; });
+  if (open_spheres > 0)
+    std::cerr << "vmas skeletonize: warning: " << open_spheres
+              << " spheres found no surface on either side (open or single-view scan?); their "
+                 "radius is the search limit\n";
   const auto connectivity_start = Clock::now();
   const MedialMesh mesh = skeletonizer.medial_mesh();
   const double connectivity_time = seconds_since(connectivity_start);
@@ -202,7 +212,10 @@ int skeletonize_command(int argc, const char* const* argv) {
     const StageTimes& t = skeletonizer.times();
     std::cout << "result: " << mesh.spheres.size() << " spheres, " << mesh.edges.size()
               << " edges, " << mesh.faces.size() << " faces; " << summary.iterations
-              << " iterations" << (summary.converged ? "" : " (stopped by --max-iterations)")
+              << " iterations"
+              << (summary.hit_max_iterations ? " (stopped by --max-iterations)"
+                  : summary.converged        ? ""
+                                             : " (error still changing: stopped after settling)")
               << ", total error " << summary.error << "\n"
               << "time (s): total " << seconds_since(start) << " = read " << read_time
               << ", normals " << normals_time << ", shape " << shape_time << ", partition "

@@ -235,6 +235,7 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
     fit_and_project(options_.final_lambda);
     refresh_errors(true);
   }
+  summary.hit_max_iterations = summary.iterations == options_.max_iterations && !summary.converged;
   summary.spheres = static_cast<int>(spheres_.size());
   summary.error = total_error_;
   return summary;

@@ -151,5 +151,16 @@ TEST_F(Cli, TooFewPointsForTheSphereCountIsAnError) {
   EXPECT_FALSE(fs::exists(path("out.ply")));
 }
 
+TEST_F(Cli, OpenSurfaceGetsAWarning) {
+  std::ostringstream plane;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) plane << i * 0.05 << " " << j * 0.05 << " 0 0 0 1\n";
+  write("plane.xyz", plane.str());
+  const Result r = run("skeletonize " + path("plane.xyz") + " --spheres 3 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("open"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace vmas

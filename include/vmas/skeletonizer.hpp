@@ -52,7 +52,8 @@ struct RunSummary {
   int iterations = 0;
   int spheres = 0;
   double error = 0.0;
-  bool converged = false;  // false when an iteration cap stopped the run
+  bool converged = false;        // the total error settled (see convergence)
+  bool hit_max_iterations = false;  // max_iterations ended the run
 };
 
 class Skeletonizer {
