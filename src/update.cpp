@@ -76,24 +76,31 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
 
     // Backtrack towards the current sphere until the energy does not rise.
     const Vec4 step = target - current;
+    const double step_length = step.norm();
+    const bool last_iteration = iteration + 1 == options.max_iterations;
     double scale = 1.0;
     bool accepted = false;
     for (int halving = 0; halving < 12; ++halving, scale *= 0.5) {
       const Vec4 candidate = current + scale * step;
+      // The normal equations are only needed if accepting this candidate lets the loop go on.
+      const bool final_step = last_iteration || scale * step_length < step_tolerance;
       Eigen::Matrix4d next_hessian;
       Vec4 next_rhs;
-      const double energy =
-          evaluate(shape, members, cluster_quadric, candidate, lambda, &next_hessian, &next_rhs);
+      const double energy = evaluate(shape, members, cluster_quadric, candidate, lambda,
+                                     final_step ? nullptr : &next_hessian,
+                                     final_step ? nullptr : &next_rhs);
       if (energy <= current_energy) {
         current = candidate;
         current_energy = energy;
-        hessian = next_hessian;
-        rhs = next_rhs;
+        if (!final_step) {
+          hessian = next_hessian;
+          rhs = next_rhs;
+        }
         accepted = true;
         break;
       }
     }
-    if (!accepted || scale * step.norm() < step_tolerance) break;
+    if (!accepted || scale * step_length < step_tolerance) break;
   }
   return to_sphere(current);
 }
