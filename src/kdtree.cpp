@@ -20,22 +20,25 @@ struct Interval {
 using Box = std::array<Interval, 3>;
 
 // The single nearest neighbour runs in the inner loop of the shrinking ball, so it has its own
-// tree: the one FLANN's KDTreeSingleIndex builds (same splits, same leaves), searched in the same
-// order with the same arithmetic but without FLANN's per-query allocation and virtual calls.
-// Keeping FLANN's tree keeps its answers, down to which of two equally distant points wins.
+// tree: the one FLANN's KDTreeSingleIndex builds (same splits, same leaves), and the same answers.
+// FLANN's search descends into the nearer child first and returns, of the points at the least
+// distance, those in the first leaf it reaches in that order, then the lowest index. This search
+// keeps the order but prunes a node by its bounding box rather than FLANN's incremental bound:
+// it skips more, but never a node holding a point at the least distance (the box distance is
+// rounded no higher than any of its points' distances), so the same leaf wins.
 // FLANN itself still serves the k-nearest queries.
 class NearestTree {
  public:
   explicit NearestTree(const std::vector<Vec3>& points) {
     order_.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) order_[i] = static_cast<int>(i);
-    for (int c = 0; c < 3; ++c) root_box_[c] = {points[0][c], points[0][c]};
+    Box box;
+    for (int c = 0; c < 3; ++c) box[c] = {points[0][c], points[0][c]};
     for (const Vec3& p : points)
       for (int c = 0; c < 3; ++c) {
-        if (p[c] < root_box_[c].low) root_box_[c].low = p[c];
-        if (p[c] > root_box_[c].high) root_box_[c].high = p[c];
+        if (p[c] < box[c].low) box[c].low = p[c];
+        if (p[c] > box[c].high) box[c].high = p[c];
       }
-    Box box = root_box_;
     divide(points, 0, static_cast<int>(points.size()), box);
     coordinates_.resize(3 * points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
@@ -44,20 +47,8 @@ class NearestTree {
 
   int nearest(const Vec3& query, double* squared_distance) const {
     const double q[3] = {query.x(), query.y(), query.z()};
-    double dists[3] = {0.0, 0.0, 0.0};
-    double mindist = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      if (q[c] < root_box_[c].low) {
-        dists[c] = (q[c] - root_box_[c].low) * (q[c] - root_box_[c].low);
-        mindist += dists[c];
-      }
-      if (q[c] > root_box_[c].high) {
-        dists[c] = (q[c] - root_box_[c].high) * (q[c] - root_box_[c].high);
-        mindist += dists[c];
-      }
-    }
     Candidate best{std::numeric_limits<double>::max(), 0};
-    search(0, q, mindist, dists, best);
+    search(0, q, best);
     if (squared_distance) *squared_distance = best.distance;
     return best.index;
   }
@@ -69,6 +60,7 @@ class NearestTree {
     int last = 0;          // inner node: `last` is the second child (the first follows the node)
     double low = 0.0;      // inner node: upper bound of the first child along `axis` ...
     double high = 0.0;     // ... and lower bound of the second
+    Box box;               // bounds of the node's points
   };
   struct Candidate {
     double distance;
@@ -88,6 +80,7 @@ class NearestTree {
           if (box[c].low > points[order_[k]][c]) box[c].low = points[order_[k]][c];
           if (box[c].high < points[order_[k]][c]) box[c].high = points[order_[k]][c];
         }
+      nodes_[id].box = box;
       return id;
     }
     int index, axis;
@@ -107,6 +100,7 @@ class NearestTree {
       box[c].low = std::min(left_box[c].low, right_box[c].low);
       box[c].high = std::max(left_box[c].high, right_box[c].high);
     }
+    nodes_[id].box = box;
     return id;
   }
 
@@ -180,9 +174,17 @@ class NearestTree {
     lim2 = left;
   }
 
-  // FLANN's searchLevel with its exact pruning; a leaf only takes points closer than the best
-  // distance at entry, and of those the closest, then the lowest index.
-  void search(int id, const double* q, double mindist, double* dists, Candidate& best) const {
+  // Squared distance from q to the box, summed like a point's.
+  static double box_distance(const Box& box, const double* q) {
+    double gap[3];
+    for (int c = 0; c < 3; ++c)
+      gap[c] = q[c] < box[c].low ? q[c] - box[c].low : (q[c] > box[c].high ? q[c] - box[c].high : 0.0);
+    return gap[0] * gap[0] + gap[1] * gap[1] + gap[2] * gap[2];
+  }
+
+  // A leaf only takes points closer than the best distance at entry, and of those the closest,
+  // then the lowest index (as FLANN's leaf and its single-result set).
+  void search(int id, const double* q, Candidate& best) const {
     const Node& node = nodes_[id];
     if (node.axis < 0) {
       const double worst = best.distance;
@@ -201,23 +203,14 @@ class NearestTree {
     const double value = q[node.axis];
     int near = id + 1;
     int far = node.last;
-    double cut = (value - node.high) * (value - node.high);
-    if (!((value - node.low) + (value - node.high) < 0)) {
-      std::swap(near, far);
-      cut = (value - node.low) * (value - node.low);
-    }
-    search(near, q, mindist, dists, best);
-    const double previous = dists[node.axis];
-    mindist = mindist + cut - previous;
-    dists[node.axis] = cut;
-    if (mindist <= best.distance) search(far, q, mindist, dists, best);
-    dists[node.axis] = previous;
+    if (!((value - node.low) + (value - node.high) < 0)) std::swap(near, far);
+    if (box_distance(nodes_[near].box, q) <= best.distance) search(near, q, best);
+    if (box_distance(nodes_[far].box, q) <= best.distance) search(far, q, best);
   }
 
   std::vector<int> order_;
   std::vector<double> coordinates_;  // points in leaf order
   std::vector<Node> nodes_;
-  Box root_box_;
 };
 
 }  // namespace
