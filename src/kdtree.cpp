@@ -55,19 +55,20 @@ class NearestTree {
 
  private:
   struct Node {
-    int axis = -1;         // split dimension; -1 for a leaf
-    int first = 0;         // leaf: positions [first, last) of order_ and coordinates_
-    int last = 0;          // inner node: `last` is the second child (the first follows the node)
-    double low = 0.0;      // inner node: upper bound of the first child along `axis` ...
-    double high = 0.0;     // ... and lower bound of the second
-    Box box;               // bounds of the node's points
+    int axis = -1;      // split dimension; -1 for a leaf
+    int first = 0;      // leaf: positions [first, last) of order_ and coordinates_
+    int last = 0;       // inner node: `last` is the second child (the first follows the node)
+    double low = 0.0;   // inner node: upper bound of the first child along `axis` ...
+    double high = 0.0;  // ... and lower bound of the second
+    Box box;            // bounds of the node's points
   };
   struct Candidate {
     double distance;
     int index;
   };
 
-  // FLANN's divideTree: returns the node of order_[left, right) and leaves its bounding box in `box`.
+  // FLANN's divideTree: returns the node of order_[left, right) and leaves its bounding box in
+  // `box`.
   int divide(const std::vector<Vec3>& points, int left, int right, Box& box) {
     const int id = static_cast<int>(nodes_.size());
     nodes_.emplace_back();
@@ -104,7 +105,8 @@ class NearestTree {
     return id;
   }
 
-  static void min_max(const std::vector<Vec3>& points, const int* ind, int count, int axis, double& low, double& high) {
+  static void min_max(const std::vector<Vec3>& points, const int* ind, int count, int axis,
+                      double& low, double& high) {
     low = high = points[ind[0]][axis];
     for (int i = 1; i < count; ++i) {
       const double value = points[ind[i]][axis];
@@ -150,7 +152,8 @@ class NearestTree {
   }
 
   // FLANN's planeSplit: reorders ind so that values < cut come first, then == cut, then > cut.
-  static void plane_split(const std::vector<Vec3>& points, int* ind, int count, int axis, double cut, int& lim1, int& lim2) {
+  static void plane_split(const std::vector<Vec3>& points, int* ind, int count, int axis,
+                          double cut, int& lim1, int& lim2) {
     int left = 0;
     int right = count - 1;
     for (;;) {
@@ -178,7 +181,8 @@ class NearestTree {
   static double box_distance(const Box& box, const double* q) {
     double gap[3];
     for (int c = 0; c < 3; ++c)
-      gap[c] = q[c] < box[c].low ? q[c] - box[c].low : (q[c] > box[c].high ? q[c] - box[c].high : 0.0);
+      gap[c] =
+          q[c] < box[c].low ? q[c] - box[c].low : (q[c] > box[c].high ? q[c] - box[c].high : 0.0);
     return gap[0] * gap[0] + gap[1] * gap[1] + gap[2] * gap[2];
   }
 
@@ -221,7 +225,8 @@ struct KdTree::Impl {
   std::unique_ptr<NearestTree> nearest;
 };
 
-KdTree::KdTree(const std::vector<Vec3>& points) : impl_(std::make_unique<Impl>()), count_(points.size()) {
+KdTree::KdTree(const std::vector<Vec3>& points)
+    : impl_(std::make_unique<Impl>()), count_(points.size()) {
   if (points.empty()) throw InvalidInput("cannot build a KD-tree over an empty point set");
   impl_->coordinates.resize(3 * points.size());
   for (std::size_t i = 0; i < points.size(); ++i)

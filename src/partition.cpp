@@ -50,8 +50,8 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
       for (int m = 0; m < count; ++m) {
         const double distance = (blocks.centers[b] - spheres[m].center).norm();
         const double gap = std::abs(distance - spheres[m].radius) - blocks.radii[b];
-        const double slack =
-            kRelativeSlack * reach + kAbsoluteSlack * (distance + spheres[m].radius + blocks.radii[b]);
+        const double slack = kRelativeSlack * reach +
+                             kAbsoluteSlack * (distance + spheres[m].radius + blocks.radii[b]);
         if (gap <= reach + slack) candidates.push_back(m);
       }
       // The exhaustive scan in sphere order, restricted to the candidates.

@@ -111,8 +111,10 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   set_neighbour_graph(shape, std::move(edges));
 }
 
-// Splits vertices[begin, end) at the median of its widest axis until at most kBlockSize remain.
+// Vertices per block: smaller blocks bound tighter but cost more sphere tests per vertex.
 constexpr int kBlockSize = 32;
+
+// Splits vertices[begin, end) at the median of its widest axis until at most kBlockSize remain.
 
 void split_blocks(const std::vector<Vec3>& points, int begin, int end, VertexBlocks& blocks) {
   auto first = blocks.vertices.begin() + begin;
@@ -125,7 +127,8 @@ void split_blocks(const std::vector<Vec3>& points, int begin, int end, VertexBlo
   if (end - begin <= kBlockSize) {
     const Vec3 center = 0.5 * (low + high);
     double radius = 0.0;
-    for (auto it = first; it != last; ++it) radius = std::max(radius, (points[*it] - center).norm());
+    for (auto it = first; it != last; ++it)
+      radius = std::max(radius, (points[*it] - center).norm());
     blocks.offsets.push_back(end);
     blocks.centers.push_back(center);
     blocks.radii.push_back(radius);

@@ -42,7 +42,8 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
     const Vec3 offset = shape.points[v] - center;
     const double length = offset.norm();
     euclidean += shape.area[v] * (length - s.w()) * (length - s.w());
-    if (!kNormalEquations || !(length > 0.0)) continue;  // a sample at the centre gives no direction
+    // A sample at the centre gives no direction.
+    if (!kNormalEquations || !(length > 0.0)) continue;
     const Vec3 u = offset / length;
     const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
     const double weight = 2.0 * lambda * shape.area[v];
@@ -96,9 +97,9 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
       const bool final_step = last_iteration || scale * step_length < step_tolerance;
       Eigen::Matrix4d next_hessian;
       Vec4 next_rhs;
-      const double energy = evaluate(shape, members, cluster_quadric, candidate, lambda,
-                                     final_step ? nullptr : &next_hessian,
-                                     final_step ? nullptr : &next_rhs);
+      const double energy =
+          evaluate(shape, members, cluster_quadric, candidate, lambda,
+                   final_step ? nullptr : &next_hessian, final_step ? nullptr : &next_rhs);
       if (energy <= current_energy) {
         current = candidate;
         current_energy = energy;
