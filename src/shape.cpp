@@ -125,6 +125,7 @@ void split_blocks(const std::vector<Vec3>& points, int begin, int end, VertexBlo
     high = high.cwiseMax(points[*it]);
   }
   if (end - begin <= kBlockSize) {
+    std::sort(first, last);  // ascending ids: closer in memory
     const Vec3 center = 0.5 * (low + high);
     double radius = 0.0;
     for (auto it = first; it != last; ++it)
