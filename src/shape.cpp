@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
 #include <utility>
 
@@ -110,6 +111,48 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   set_neighbour_graph(shape, std::move(edges));
 }
 
+// Vertices per block: smaller blocks bound tighter but cost more sphere tests per vertex.
+constexpr int kBlockSize = 32;
+
+// Splits vertices[begin, end) at the median of its widest axis until at most kBlockSize remain.
+
+void split_blocks(const std::vector<Vec3>& points, int begin, int end, VertexBlocks& blocks) {
+  auto first = blocks.vertices.begin() + begin;
+  auto last = blocks.vertices.begin() + end;
+  Vec3 low = points[*first], high = low;
+  for (auto it = first; it != last; ++it) {
+    low = low.cwiseMin(points[*it]);
+    high = high.cwiseMax(points[*it]);
+  }
+  if (end - begin <= kBlockSize) {
+    std::sort(first, last);  // ascending ids: closer in memory
+    const Vec3 center = 0.5 * (low + high);
+    double radius = 0.0;
+    for (auto it = first; it != last; ++it)
+      radius = std::max(radius, (points[*it] - center).norm());
+    blocks.offsets.push_back(end);
+    blocks.centers.push_back(center);
+    blocks.radii.push_back(radius);
+    return;
+  }
+  int axis;
+  (high - low).maxCoeff(&axis);
+  const int middle = begin + (end - begin) / 2;
+  std::nth_element(first, blocks.vertices.begin() + middle, last,
+                   [&](int a, int b) { return points[a][axis] < points[b][axis]; });
+  split_blocks(points, begin, middle, blocks);
+  split_blocks(points, middle, end, blocks);
+}
+
+VertexBlocks build_blocks(const std::vector<Vec3>& points) {
+  VertexBlocks blocks;
+  blocks.vertices.resize(points.size());
+  std::iota(blocks.vertices.begin(), blocks.vertices.end(), 0);
+  blocks.offsets.push_back(0);
+  split_blocks(points, 0, static_cast<int>(points.size()), blocks);
+  return blocks;
+}
+
 }  // namespace
 
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
@@ -129,6 +172,7 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
     build_mesh_attributes(input, shape);
   else
     build_cloud_attributes(input, options, shape);
+  shape.blocks = build_blocks(shape.points);
   for (double a : shape.area) shape.total_area += a;
   if (!(shape.total_area > 0.0)) throw InvalidInput("the shape has zero area");
   return shape;

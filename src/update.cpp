@@ -30,26 +30,37 @@ namespace {
 // the normal equations of the step from s: the Euclidean residuals ‖p−q‖ − r linearised with the
 // unit directions u = (p − q)/‖p − q‖ frozen, i.e. ∇[½sᵀAs − bᵀs + λΣA(v)(uᵀp − ũᵀs)²] = 0 with
 // ũ = (u, 1).
+template <bool kNormalEquations>
 double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem& cluster_quadric,
                 const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
   const Vec3 center = s.head<3>();
   double euclidean = 0.0;
-  if (hessian) {
-    *hessian = cluster_quadric.A;
-    *rhs = cluster_quadric.b;
-  }
+  // Local accumulators: through the pointers every term would be a load and a store.
+  Eigen::Matrix4d h = cluster_quadric.A;
+  Vec4 g = cluster_quadric.b;
   for (int v : members) {
     const Vec3 offset = shape.points[v] - center;
     const double length = offset.norm();
     euclidean += shape.area[v] * (length - s.w()) * (length - s.w());
-    if (!hessian || !(length > 0.0)) continue;  // a sample at the centre gives no direction
+    // A sample at the centre gives no direction.
+    if (!kNormalEquations || !(length > 0.0)) continue;
     const Vec3 u = offset / length;
     const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
     const double weight = 2.0 * lambda * shape.area[v];
-    hessian->noalias() += weight * direction * direction.transpose();
-    rhs->noalias() += (weight * u.dot(shape.points[v])) * direction;
+    h.noalias() += weight * direction * direction.transpose();
+    g.noalias() += (weight * u.dot(shape.points[v])) * direction;
+  }
+  if (kNormalEquations) {
+    *hessian = h;
+    *rhs = g;
   }
   return cluster_quadric(s) + lambda * euclidean;
+}
+
+double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem& cluster_quadric,
+                const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
+  return hessian ? evaluate<true>(shape, members, cluster_quadric, s, lambda, hessian, rhs)
+                 : evaluate<false>(shape, members, cluster_quadric, s, lambda, nullptr, nullptr);
 }
 
 }  // namespace
@@ -76,24 +87,31 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
 
     // Backtrack towards the current sphere until the energy does not rise.
     const Vec4 step = target - current;
+    const double step_length = step.norm();
+    const bool last_iteration = iteration + 1 == options.max_iterations;
     double scale = 1.0;
     bool accepted = false;
     for (int halving = 0; halving < 12; ++halving, scale *= 0.5) {
       const Vec4 candidate = current + scale * step;
+      // The normal equations are only needed if accepting this candidate lets the loop go on.
+      const bool final_step = last_iteration || scale * step_length < step_tolerance;
       Eigen::Matrix4d next_hessian;
       Vec4 next_rhs;
       const double energy =
-          evaluate(shape, members, cluster_quadric, candidate, lambda, &next_hessian, &next_rhs);
+          evaluate(shape, members, cluster_quadric, candidate, lambda,
+                   final_step ? nullptr : &next_hessian, final_step ? nullptr : &next_rhs);
       if (energy <= current_energy) {
         current = candidate;
         current_energy = energy;
-        hessian = next_hessian;
-        rhs = next_rhs;
+        if (!final_step) {
+          hessian = next_hessian;
+          rhs = next_rhs;
+        }
         accepted = true;
         break;
       }
     }
-    if (!accepted || scale * step.norm() < step_tolerance) break;
+    if (!accepted || scale * step_length < step_tolerance) break;
   }
   return to_sphere(current);
 }

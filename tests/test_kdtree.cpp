@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <flann/flann.hpp>
+#include <limits>
 #include <random>
 
 #include "vmas/error.hpp"
@@ -26,6 +29,49 @@ TEST(KdTree, NearestMatchesBruteForce) {
     double squared_distance = -1.0;
     EXPECT_EQ(tree.nearest(query, &squared_distance), best);
     EXPECT_NEAR(squared_distance, (points[best] - query).squaredNorm(), 1e-12);
+  }
+}
+
+// FLANN's single-tree search for one neighbour, as KdTree::nearest used it before having its own.
+class FlannNearest : public flann::ResultSet<double> {
+ public:
+  bool full() const override { return true; }
+  void addPoint(double distance, size_t index) override {
+    if (distance < distance_ || (distance == distance_ && index < index_)) {
+      distance_ = distance;
+      index_ = index;
+    }
+  }
+  double worstDist() const override { return distance_; }
+  double distance_ = std::numeric_limits<double>::max();
+  size_t index_ = 0;
+};
+
+TEST(KdTree, NearestMatchesFlannDownToTies) {
+  // A shuffled grid queried at grid points, edge midpoints and cell centres: many exact ties,
+  // which FLANN resolves by its traversal order.
+  std::vector<Vec3> points;
+  for (int x = 0; x < 12; ++x)
+    for (int y = 0; y < 9; ++y)
+      for (int z = 0; z < 7; ++z) points.emplace_back(0.5 * x, 0.25 * y, z);
+  std::shuffle(points.begin(), points.end(), std::mt19937(4));
+  const KdTree tree(points);
+  std::vector<double> coordinates;
+  for (const Vec3& p : points) coordinates.insert(coordinates.end(), {p.x(), p.y(), p.z()});
+  flann::KDTreeSingleIndex<flann::L2_Simple<double>> index(
+      flann::Matrix<double>(coordinates.data(), points.size(), 3),
+      flann::KDTreeSingleIndexParams(10));
+  index.buildIndex();
+  std::vector<Vec3> queries = random_points(300, 5);
+  for (int x = -1; x < 25; ++x)
+    for (int y = -1; y < 19; ++y)
+      for (int z = -1; z < 15; z += 3) queries.emplace_back(0.25 * x, 0.125 * y, 0.5 * z);
+  for (const Vec3& query : queries) {
+    FlannNearest expected;
+    index.findNeighbors(expected, query.data(), flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED));
+    double squared_distance = -1.0;
+    EXPECT_EQ(tree.nearest(query, &squared_distance), static_cast<int>(expected.index_));
+    EXPECT_EQ(squared_distance, expected.distance_);
   }
 }
 

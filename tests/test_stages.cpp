@@ -112,6 +112,29 @@ TEST(Partition, LabelsEveryVertexWithItsBruteForceMinimum) {
   }
 }
 
+TEST(Partition, StartingFromPreviousLabelsStillFindsTheMinimum) {
+  // The block bounds start from each vertex's previous label; relabel after moving the spheres.
+  const Shape shape = build_shape(test::torus(1.0, 0.3, 64, 24), {});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<Sphere> spheres;
+  for (int i = 0; i < 40; ++i)
+    spheres.push_back({Vec3(uniform(rng), uniform(rng), 0.2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
+  std::vector<int> labels;
+  std::vector<double> energies;
+  for (int round = 0; round < 3; ++round) {
+    partition(shape, spheres, 0.2, labels, energies);
+    for (int v = 0; v < shape.size(); ++v) {
+      int best = 0;
+      for (int m = 1; m < static_cast<int>(spheres.size()); ++m)
+        if (vertex_energy(shape, v, spheres[m], 0.2) < vertex_energy(shape, v, spheres[best], 0.2))
+          best = m;
+      ASSERT_EQ(labels[v], best);
+    }
+    for (Sphere& s : spheres) s.center += 0.05 * Vec3(uniform(rng), uniform(rng), uniform(rng));
+  }
+}
+
 TEST(Update, EnergyNeverIncreasesAndFitsTheSphere) {
   const Vec3 center(0.1, 0.2, 0.3);
   const Shape shape = build_shape(test::icosphere(center, 1.0, 3), {});

@@ -20,7 +20,8 @@ inline double vertex_energy(const Shape& shape, int v, const Sphere& m, double l
 
 // Assigns every vertex to its best sphere (ties go to the lower index) and stores its energy.
 // Exact: spheres are skipped only when the Euclidean lower bound alone already exceeds the best
-// energy found. Parallel over vertices; the result does not depend on the thread count.
+// energy found: for groups of blocks of nearby vertices (shape.blocks) at once, then per block,
+// then per vertex. Parallel over groups; the result does not depend on the thread count.
 void partition(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
                std::vector<int>& labels, std::vector<double>& energies);
 

@@ -14,6 +14,18 @@ struct ShapeOptions {
   void validate() const;  // throws InvalidOption
 };
 
+// Vertices regrouped into spatially compact blocks (the leaves of a median-split tree): block b
+// holds vertices[offsets[b] .. offsets[b+1]), all inside the ball (centers[b], radii[b]). Lets a
+// stage bound a distance for a whole block at once.
+struct VertexBlocks {
+  std::vector<int> vertices;
+  std::vector<int> offsets;
+  std::vector<Vec3> centers;
+  std::vector<double> radii;
+
+  int size() const { return static_cast<int>(centers.size()); }
+};
+
 struct Shape {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;     // unit, outward
@@ -21,6 +33,7 @@ struct Shape {
   std::vector<Sqem> quadric;     // Q_v (eq. 5 and 7)
   std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
   std::vector<int> neighbours;         //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
+  VertexBlocks blocks;
   bool is_mesh = false;
   Vec3 box_min = Vec3::Zero();
   Vec3 box_max = Vec3::Zero();
