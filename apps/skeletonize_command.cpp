@@ -72,6 +72,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   NormalOptions normal_options;
   int threads = 0;
   po::options_description visible(kDescription);
+  // clang-format off
   visible.add_options()
       ("help,h", "print this help")
       ("output,o", po::value(&output), "medial mesh to write (.ply or .ma)")
@@ -111,6 +112,7 @@ int skeletonize_command(int argc, const char* const* argv) {
        "diagonal); raise it to about the noise level for noisy scans")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
       ("quiet,q", "print nothing but errors");
+  // clang-format on
   po::options_description hidden;
   hidden.add_options()("input", po::value(&input));
   po::options_description all;
@@ -120,7 +122,9 @@ int skeletonize_command(int argc, const char* const* argv) {
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
-    std::cout << visible << "\nexample: vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n";
+    std::cout
+        << visible
+        << "\nexample: vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n";
     return 0;
   }
   po::notify(vm);
@@ -167,14 +171,13 @@ int skeletonize_command(int argc, const char* const* argv) {
     surface.normals = estimate_normals(surface.points, normal_options);
     normals_time = seconds_since(normals_start);
     if (!quiet)
-      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", "
-                << normals_time << " s)\n";
+      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", " << normals_time
+                << " s)\n";
   }
   if (!quiet)
     std::cout << "parameters: "
-              << (options.target_spheres > 0
-                      ? "spheres=" + std::to_string(options.target_spheres)
-                      : "error=" + std::to_string(options.error_threshold))
+              << (options.target_spheres > 0 ? "spheres=" + std::to_string(options.target_spheres)
+                                             : "error=" + std::to_string(options.error_threshold))
               << " lambda=" << options.lambda << " k=" << shape_options.k
               << " projection=" << (options.project ? "on" : "off")
 #ifdef _OPENMP
@@ -193,9 +196,11 @@ int skeletonize_command(int argc, const char* const* argv) {
   if (show_progress) std::fprintf(stderr, "\n");
   // A ball that never shrank found no sample on either side: the surface is open there (a
   // single-view scan, a hole), and such a sphere is no medial ball.
-  const double unbounded = 0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
-  const auto open_spheres = std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
-                                          [&](const Sphere& s) { return s.radius >= unbounded; });
+  const double unbounded =
+      0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
+  const auto open_spheres =
+      std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
+                    [&](const Sphere& s) { return s.radius >= unbounded; });
   if (open_spheres > 0)
     std::cerr << "vmas skeletonize: warning: " << open_spheres
               << " spheres found no surface on either side (open or single-view scan?); their "

@@ -33,7 +33,8 @@ void set_neighbour_graph(Shape& shape, std::vector<std::pair<int, int>> pairs) {
     ++shape.neighbour_offsets[from + 1];
     shape.neighbours.push_back(to);
   }
-  for (int v = 0; v < shape.size(); ++v) shape.neighbour_offsets[v + 1] += shape.neighbour_offsets[v];
+  for (int v = 0; v < shape.size(); ++v)
+    shape.neighbour_offsets[v + 1] += shape.neighbour_offsets[v];
 }
 
 void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
@@ -50,8 +51,9 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
   std::vector<std::pair<int, int>> edges;
   edges.reserve(3 * input.faces.size());
   for (const auto& f : input.faces) {
-    const Vec3 cross = (input.points[f[1]] - input.points[f[0]])
-                           .cross(input.points[f[2]] - input.points[f[0]]) * orientation;
+    const Vec3 cross =
+        (input.points[f[1]] - input.points[f[0]]).cross(input.points[f[2]] - input.points[f[0]]) *
+        orientation;
     const double face_area = 0.5 * cross.norm();
     if (!(face_area > 0.0)) continue;
     const Vec3 normal = cross.normalized();
@@ -74,10 +76,10 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
 
 void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& options, Shape& shape) {
   const int n = shape.size();
-  if (!input.has_normals())
-    throw InvalidInput("a point cloud needs normals (estimate them first)");
+  if (!input.has_normals()) throw InvalidInput("a point cloud needs normals (estimate them first)");
   if (n <= options.k)
-    throw InvalidInput(std::to_string(n) + " points are too few for k=" + std::to_string(options.k));
+    throw InvalidInput(std::to_string(n) +
+                       " points are too few for k=" + std::to_string(options.k));
   shape.normals = input.normals;
   const KdTree tree(shape.points);
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.

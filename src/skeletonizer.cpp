@@ -152,7 +152,8 @@ void Skeletonizer::fit_and_project(double lambda) {
   std::vector<Sphere> fitted = spheres_;
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < count; ++c)
-    if (!frozen_[c]) fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
+    if (!frozen_[c])
+      fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
   times_.update += seconds_since(start);
   if (options_.project) {
     start = Clock::now();

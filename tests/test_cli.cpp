@@ -31,7 +31,8 @@ class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("vmas_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("vmas_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -71,8 +72,8 @@ void expect_one_line_error(const Result& r, const std::string& what) {
 
 TEST_F(Cli, SkeletonizesAMeshAndWritesLabels) {
   write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
-  const Result r = run("skeletonize " + path("capsule.off") + " --spheres 6 -o " +
-                       path("out.ply") + " --labels " + path("labels.txt"));
+  const Result r = run("skeletonize " + path("capsule.off") + " --spheres 6 -o " + path("out.ply") +
+                       " --labels " + path("labels.txt"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("6 spheres"), std::string::npos) << r.out;
   const MedialMesh mesh = read_medial_mesh(path("out.ply"));
@@ -134,7 +135,8 @@ TEST_F(Cli, BadInputFilesGiveOneLineErrorsAndNoOutput) {
   write("nan.xyz", "nan 0 0\n0 nan 0\n");
   write("text.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
   const std::size_t files = file_count();
-  for (const std::string name : {"missing.off", "empty.off", "unknown.stl", "nan.xyz", "text.ply"}) {
+  for (const std::string name :
+       {"missing.off", "empty.off", "unknown.stl", "nan.xyz", "text.ply"}) {
     const Result r = run("skeletonize " + path(name) + " --spheres 3 -o " + path("out.ply"));
     EXPECT_EQ(r.exit_code, 1) << name;
     expect_one_line_error(r, name);
@@ -143,8 +145,9 @@ TEST_F(Cli, BadInputFilesGiveOneLineErrorsAndNoOutput) {
 }
 
 TEST_F(Cli, TooFewPointsForTheSphereCountIsAnError) {
-  write("tiny.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n0 0 1 0 0 1\n"
-                    "1 0 1 0 0 1\n0 1 1 0 0 1\n1 1 1 0 0 1\n");
+  write("tiny.xyz",
+        "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n0 0 1 0 0 1\n"
+        "1 0 1 0 0 1\n0 1 1 0 0 1\n1 1 1 0 0 1\n");
   const Result r = run("skeletonize " + path("tiny.xyz") + " --spheres 50 -o " + path("out.ply"));
   EXPECT_EQ(r.exit_code, 2);
   expect_one_line_error(r, "spheres");

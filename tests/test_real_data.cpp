@@ -20,9 +20,9 @@ std::string data_path(const std::string& relative) {
   return (fs::path(override_dir ? override_dir : VMAS_SHARED_DATA) / relative).string();
 }
 
-#define REQUIRE_DATA(relative)                                                         \
-  if (!fs::exists(data_path(relative)))                                               \
-    GTEST_SKIP() << "shared data not found: " << data_path(relative)                  \
+#define REQUIRE_DATA(relative)                                       \
+  if (!fs::exists(data_path(relative)))                              \
+    GTEST_SKIP() << "shared data not found: " << data_path(relative) \
                  << " (set VMAS_SHARED_DATA to the folder holding meshes/ and scans/)";
 
 // Generalised winding number of a closed mesh at `x`: ≈1 inside, ≈0 outside.
@@ -41,7 +41,9 @@ double winding_number(const SurfaceInput& mesh, const Vec3& x) {
 int connected_components(const MedialMesh& mesh) {
   std::vector<int> parent(mesh.spheres.size());
   std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+  std::function<int(int)> find = [&](int i) {
+    return parent[i] == i ? i : parent[i] = find(parent[i]);
+  };
   for (const auto& e : mesh.edges) parent[find(e[0])] = find(e[1]);
   int count = 0;
   for (int i = 0; i < static_cast<int>(parent.size()); ++i) count += find(i) == i;

@@ -11,12 +11,12 @@ namespace vmas::test {
 // Icosphere: the icosahedron subdivided `levels` times, projected on the sphere.
 inline SurfaceInput icosphere(const Vec3& center, double radius, int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<int, 3>> f = {
-      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  std::vector<Vec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (auto& v : p) v.normalize();
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> midpoint;
@@ -29,7 +29,8 @@ inline SurfaceInput icosphere(const Vec3& center, double radius, int levels) {
     };
     std::vector<std::array<int, 3>> next;
     for (const auto& tri : f) {
-      const int ab = middle(tri[0], tri[1]), bc = middle(tri[1], tri[2]), ca = middle(tri[2], tri[0]);
+      const int ab = middle(tri[0], tri[1]), bc = middle(tri[1], tri[2]),
+                ca = middle(tri[2], tri[0]);
       next.push_back({tri[0], ab, ca});
       next.push_back({tri[1], bc, ab});
       next.push_back({tri[2], ca, bc});
@@ -93,7 +94,8 @@ inline SurfaceInput capsule(double radius, double length, int rings, int sides) 
       s.faces.push_back({id(ring, j), id(ring + 1, j + 1), id(ring + 1, j)});
     }
   const int top = static_cast<int>(s.points.size()) - 1;
-  for (int j = 0; j < sides; ++j) s.faces.push_back({top, id(ring_count - 1, j), id(ring_count - 1, j + 1)});
+  for (int j = 0; j < sides; ++j)
+    s.faces.push_back({top, id(ring_count - 1, j), id(ring_count - 1, j + 1)});
   return s;
 }
 

@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-
 #include <omp.h>
 
 #include <cmath>
@@ -63,7 +62,8 @@ TEST(Skeletonizer, TorusGivesAClosedLoop) {
 
 TEST(Skeletonizer, SphereCountIsMetExactly) {
   for (int target : {1, 7, 20}) {
-    Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(target));
+    Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}),
+                              with_target(target));
     skeletonizer.run();
     EXPECT_EQ(skeletonizer.spheres().size(), static_cast<std::size_t>(target));
   }

@@ -38,7 +38,8 @@ TEST(Sqem, SumOfSphereVertexQuadricsIsZeroOnTheExactSphere) {
   for (const auto& q : shape.quadric) total += q;
   // Vertex normals of the mesh are face normals, so the fit is exact only up to faceting.
   EXPECT_LT(total(Sphere{center, 0.5}) / shape.total_area, 1e-4 * 0.25);
-  EXPECT_GT(total(Sphere{center, 0.45}) / shape.total_area, 10 * total(Sphere{center, 0.5}) / shape.total_area);
+  EXPECT_GT(total(Sphere{center, 0.45}) / shape.total_area,
+            10 * total(Sphere{center, 0.5}) / shape.total_area);
 }
 
 TEST(Shape, MeshAreasSumToSurfaceAreaAndNormalsPointOutward) {
@@ -98,7 +99,8 @@ TEST(Partition, LabelsEveryVertexWithItsBruteForceMinimum) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::vector<Sphere> spheres;
-  for (int i = 0; i < 12; ++i) spheres.push_back({Vec3(0, 0, 2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
+  for (int i = 0; i < 12; ++i)
+    spheres.push_back({Vec3(0, 0, 2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
   std::vector<int> labels;
   std::vector<double> energies;
   partition(shape, spheres, 0.2, labels, energies);
@@ -106,7 +108,8 @@ TEST(Partition, LabelsEveryVertexWithItsBruteForceMinimum) {
   for (int v = 0; v < shape.size(); ++v) {
     int best = 0;
     for (int m = 1; m < 12; ++m)
-      if (vertex_energy(shape, v, spheres[m], 0.2) < vertex_energy(shape, v, spheres[best], 0.2)) best = m;
+      if (vertex_energy(shape, v, spheres[m], 0.2) < vertex_energy(shape, v, spheres[best], 0.2))
+        best = m;
     EXPECT_EQ(labels[v], best);
     EXPECT_DOUBLE_EQ(energies[v], vertex_energy(shape, v, spheres[best], 0.2));
   }
@@ -119,7 +122,8 @@ TEST(Partition, StartingFromPreviousLabelsStillFindsTheMinimum) {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   std::vector<Sphere> spheres;
   for (int i = 0; i < 40; ++i)
-    spheres.push_back({Vec3(uniform(rng), uniform(rng), 0.2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
+    spheres.push_back(
+        {Vec3(uniform(rng), uniform(rng), 0.2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
   std::vector<int> labels;
   std::vector<double> energies;
   for (int round = 0; round < 3; ++round) {
@@ -165,9 +169,12 @@ TEST(Split, ChoosesWorstNonAdjacentClustersAboveThreshold) {
   // 1–2 adjacent, 2–4 adjacent.
   const std::vector<std::vector<int>> adjacency = {{}, {2}, {1, 4}, {}, {2}};
   const std::vector<bool> eligible(5, true);
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 10), (std::vector<int>{1, 4, 0, 3}));
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 4.0, 10), (std::vector<int>{1, 4, 0}));
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 2), (std::vector<int>{1, 4}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 10),
+            (std::vector<int>{1, 4, 0, 3}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 4.0, 10),
+            (std::vector<int>{1, 4, 0}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 2),
+            (std::vector<int>{1, 4}));
   EXPECT_EQ(select_clusters_to_split(errors, adjacency, {true, false, true, true, true}, 0.0, 10),
             (std::vector<int>{2, 0, 3}));
 }
@@ -193,7 +200,8 @@ TEST(Connectivity, SymmetricValidEdgesAndCliqueFaces) {
     EXPECT_TRUE(edges.insert({e[0], e[1]}).second);
   }
   for (const auto& f : mesh.faces) {
-    EXPECT_TRUE(edges.count({f[0], f[1]}) && edges.count({f[1], f[2]}) && edges.count({f[0], f[2]}));
+    EXPECT_TRUE(edges.count({f[0], f[1]}) && edges.count({f[1], f[2]}) &&
+                edges.count({f[0], f[2]}));
   }
   // Every octant touches at least its three face-neighbours.
   for (int a = 0; a < 8; ++a) EXPECT_GE(adjacency[a].size(), 3u);

@@ -12,10 +12,10 @@ namespace vmas {
 
 // What read_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
 struct CleanReport {
-  std::size_t non_finite_points = 0;   // points with a NaN/Inf coordinate or normal (dropped)
-  std::size_t duplicate_points = 0;    // points at the same coordinates as an earlier one (merged)
-  std::size_t degenerate_faces = 0;    // faces with a repeated or dropped vertex, or zero area
-  std::size_t unused_points = 0;       // mesh vertices referenced by no face (dropped)
+  std::size_t non_finite_points = 0;  // points with a NaN/Inf coordinate or normal (dropped)
+  std::size_t duplicate_points = 0;   // points at the same coordinates as an earlier one (merged)
+  std::size_t degenerate_faces = 0;   // faces with a repeated or dropped vertex, or zero area
+  std::size_t unused_points = 0;      // mesh vertices referenced by no face (dropped)
   std::size_t total() const {
     return non_finite_points + duplicate_points + degenerate_faces + unused_points;
   }

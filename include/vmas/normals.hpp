@@ -9,7 +9,7 @@
 namespace vmas {
 
 struct NormalOptions {
-  int k = 16;  // neighbours used for the PCA plane fit and for the orientation graph
+  int k = 16;             // neighbours used for the PCA plane fit and for the orientation graph
   void validate() const;  // throws InvalidOption
 };
 

@@ -28,23 +28,24 @@ struct VertexBlocks {
 
 struct Shape {
   std::vector<Vec3> points;
-  std::vector<Vec3> normals;     // unit, outward
-  std::vector<double> area;      // A(v) (eq. 4 and 6)
-  std::vector<Sqem> quadric;     // Q_v (eq. 5 and 7)
+  std::vector<Vec3> normals;           // unit, outward
+  std::vector<double> area;            // A(v) (eq. 4 and 6)
+  std::vector<Sqem> quadric;           // Q_v (eq. 5 and 7)
   std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
-  std::vector<int> neighbours;         //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
+  std::vector<int> neighbours;  //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
   VertexBlocks blocks;
   bool is_mesh = false;
   Vec3 box_min = Vec3::Zero();
   Vec3 box_max = Vec3::Zero();
-  double diagonal = 0.0;    // bounding-box diagonal: the unit of every relative length
+  double diagonal = 0.0;  // bounding-box diagonal: the unit of every relative length
   double total_area = 0.0;
 
   int size() const { return static_cast<int>(points.size()); }
 };
 
 // Builds the shape from a cleaned input. Meshes take their normals and areas from the faces
-// (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput otherwise).
+// (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput
+// otherwise).
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
 
 }  // namespace vmas

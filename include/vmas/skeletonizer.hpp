@@ -16,21 +16,21 @@
 namespace vmas {
 
 struct SkeletonizerOptions {
-  double lambda = 0.2;            // weight of the point–sphere term (eq. 8, 11)
-  double final_lambda = 0.01;     // λ of one last refit on the settled partition, which moves
-                                  // the spheres of extremities into them; negative: none
-  int target_spheres = 0;         // stop splitting at this many spheres (0: no count target)
-  double error_threshold = 0.0;   // split clusters until no vertex error √(E_v / A(v)) exceeds
-                                  // this, relative to the diagonal (0: no error target)
-  int max_spheres = 5000;         // hard cap when only an error threshold is given
-  int max_iterations = 3000;      // partition + update steps in run()
-  double convergence = 1e-4;      // converged when the total error changes by less (relative)
-  int split_interval = 10;        // split at least every this many steps while spheres are missing
-  int settle_iterations = 3;      // steps after the last split before run() may stop
-  int max_settle_iterations = 30; // ... and after which it stops even if not converged
-  int min_cluster_size = 4;       // a sphere with fewer vertices is moved to the worst vertex
-                                  // of the worst cluster after a partition
-  bool project = true;            // shrinking-ball correction after every update (§3.3)
+  double lambda = 0.2;             // weight of the point–sphere term (eq. 8, 11)
+  double final_lambda = 0.01;      // λ of one last refit on the settled partition, which moves
+                                   // the spheres of extremities into them; negative: none
+  int target_spheres = 0;          // stop splitting at this many spheres (0: no count target)
+  double error_threshold = 0.0;    // split clusters until no vertex error √(E_v / A(v)) exceeds
+                                   // this, relative to the diagonal (0: no error target)
+  int max_spheres = 5000;          // hard cap when only an error threshold is given
+  int max_iterations = 3000;       // partition + update steps in run()
+  double convergence = 1e-4;       // converged when the total error changes by less (relative)
+  int split_interval = 10;         // split at least every this many steps while spheres are missing
+  int settle_iterations = 3;       // steps after the last split before run() may stop
+  int max_settle_iterations = 30;  // ... and after which it stops even if not converged
+  int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
+                                   // of the worst cluster after a partition
+  bool project = true;             // shrinking-ball correction after every update (§3.3)
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
@@ -52,7 +52,7 @@ struct RunSummary {
   int iterations = 0;
   int spheres = 0;
   double error = 0.0;
-  bool converged = false;        // the total error settled (see convergence)
+  bool converged = false;           // the total error settled (see convergence)
   bool hit_max_iterations = false;  // max_iterations ended the run
 };
 
@@ -89,11 +89,12 @@ class Skeletonizer {
   double total_error() const { return total_error_; }
 
  private:
-  void repartition();           // partition, then refresh members and errors
-  bool reseed_tiny_clusters();  // moves spheres with too few vertices; true if any moved
+  void repartition();                   // partition, then refresh members and errors
+  bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   void refresh_errors(bool spheres_moved);
-  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere  // E(C) and the total; E_v too if spheres moved
+  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere  // E(C)
+                                        // and the total; E_v too if spheres moved
   bool wants_more_spheres() const;
   void check_id(int id) const;
 

@@ -10,7 +10,9 @@ namespace vmas {
 
 using Vec4 = Eigen::Vector4d;
 
-inline Vec4 to_vec4(const Sphere& s) { return Vec4(s.center.x(), s.center.y(), s.center.z(), s.radius); }
+inline Vec4 to_vec4(const Sphere& s) {
+  return Vec4(s.center.x(), s.center.y(), s.center.z(), s.radius);
+}
 inline Sphere to_sphere(const Vec4& s) { return Sphere{s.head<3>(), s.w()}; }
 
 struct Sqem {

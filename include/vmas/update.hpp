@@ -10,9 +10,9 @@
 namespace vmas {
 
 struct UpdateOptions {
-  int max_iterations = 10;        // Gauss–Newton steps per update
-  double step_tolerance = 1e-6;   // stop when the step is shorter (relative to the diagonal)
-  void validate() const;          // throws InvalidOption
+  int max_iterations = 10;       // Gauss–Newton steps per update
+  double step_tolerance = 1e-6;  // stop when the step is shorter (relative to the diagonal)
+  void validate() const;         // throws InvalidOption
 };
 
 // F(s) for the cluster `members`.
