@@ -31,20 +31,28 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
 }
 
 Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
-  bool shrunk = false;
-  const Sphere ball = shrink_along(vertex, inward, shrunk);
-  if (shrunk) return ball;
-  // Nothing inside the first, huge ball: `inward` points out of the shape (a normal flipped by
-  // noise). The other side is the inside; if it is empty too (an open scan), keep the first ball.
-  const Sphere reverse = shrink_along(vertex, -inward, shrunk);
-  return shrunk ? reverse : ball;
+  int contact = -1;
+  const Sphere ball = shrink_along(vertex, inward, contact);
+  if (seen_from_inside(ball, contact)) return ball;
+  // `inward` points out of the shape (a normal flipped by noise): the first ball found nothing,
+  // or stopped on a surface that faces its centre (the outside of the shape). Try the other side.
+  // If neither side is clearly inside (noise, an open scan), the smaller ball does less harm.
+  int reverse_contact = -1;
+  const Sphere reverse = shrink_along(vertex, -inward, reverse_contact);
+  if (seen_from_inside(reverse, reverse_contact)) return reverse;
+  return reverse.radius < ball.radius ? reverse : ball;
 }
 
-Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, bool& shrunk) const {
+bool MedialProjector::seen_from_inside(const Sphere& ball, int contact) const {
+  return contact >= 0 && shape_.normals[contact].dot(shape_.points[contact] - ball.center) > 0.0;
+}
+
+Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, int& contact) const {
   const Vec3& p = shape_.points[vertex];
   const double delta = options_.tolerance * shape_.diagonal;
   double radius = options_.initial_radius * shape_.diagonal;
   Vec3 center = p + radius * inward;
+  contact = -1;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
     double squared_distance = 0.0;
     const int nearest = tree_.nearest(center, &squared_distance);
@@ -62,7 +70,7 @@ Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, bool& shrun
     }
     radius = next_radius;
     center = next_center;
-    shrunk = true;
+    contact = nearest;
   }
   return Sphere{center, radius};
 }

@@ -21,7 +21,7 @@ class MedialProjector {
   MedialProjector(const Shape& shape, const ShrinkingBallOptions& options);
 
   // The largest empty ball touching `vertex` whose centre lies along the unit `inward` direction
-  // (or along −inward when nothing lies on the `inward` side: a flipped normal).
+  // (or along −inward when that side is the outside: a flipped normal).
   Sphere shrink(int vertex, const Vec3& inward) const;
 
   // Moves a fitted sphere centre onto the medial axis: the shrinking ball from the input point
@@ -31,8 +31,11 @@ class MedialProjector {
   const KdTree& tree() const { return tree_; }
 
  private:
-  // One shrinking-ball run; `shrunk` tells whether any sample was found inside the first ball.
-  Sphere shrink_along(int vertex, const Vec3& inward, bool& shrunk) const;
+  // One shrinking-ball run; `contact` is the sample that last shrank the ball (-1: none).
+  Sphere shrink_along(int vertex, const Vec3& inward, int& contact) const;
+  // Whether the ball lies inside the surface at its contact (the contact's normal points away
+  // from the centre), as a medial ball must.
+  bool seen_from_inside(const Sphere& ball, int contact) const;
 
   const Shape& shape_;
   ShrinkingBallOptions options_;
