@@ -95,7 +95,7 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
       ("max-iterations", po::value(&options.max_iterations)->default_value(defaults.max_iterations),
        "stop after this many partition/update steps")
-      ("convergence", po::value(&options.convergence)->default_value(defaults.convergence, "0.0001"),
+      ("convergence", po::value(&options.convergence)->default_value(defaults.convergence, "0.0002"),
        "split (or stop) once the total error changes by less than this fraction per step")
       ("split-interval", po::value(&options.split_interval)->default_value(defaults.split_interval),
        "split at least every this many steps while spheres are missing")

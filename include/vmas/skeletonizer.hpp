@@ -24,7 +24,7 @@ struct SkeletonizerOptions {
                                    // this, relative to the diagonal (0: no error target)
   int max_spheres = 5000;          // hard cap when only an error threshold is given
   int max_iterations = 3000;       // partition + update steps in run()
-  double convergence = 1e-4;       // converged when the total error changes by less (relative)
+  double convergence = 2e-4;       // converged when the total error changes by less (relative)
   int split_interval = 10;         // split at least every this many steps while spheres are missing
   int settle_iterations = 3;       // steps after the last split before run() may stop
   int max_settle_iterations = 30;  // ... and after which it stops even if not converged
@@ -80,7 +80,8 @@ class Skeletonizer {
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
-  // max E_v / A(v) over each cluster: what splitting ranks by and the error threshold bounds.
+  // max E_v / A(v) over each cluster: what the error threshold bounds; splitting ranks clusters
+  // by √(E(C) · this).
   const std::vector<double>& worst_errors() const { return worst_errors_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
