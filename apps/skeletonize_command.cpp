@@ -91,6 +91,8 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("normal-k", po::value(&normal_options.k)->default_value(normal_defaults.k),
        "neighbours used to estimate and orient normals of clouds that have none")
       ("estimate-normals", "estimate normals even if the file has them")
+      ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
+       "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("labels", po::value(&labels_path), "also write the cluster of every input point (text)")
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
       ("max-iterations", po::value(&options.max_iterations)->default_value(defaults.max_iterations),
@@ -172,6 +174,13 @@ int skeletonize_command(int argc, const char* const* argv) {
     normals_time = seconds_since(normals_start);
     if (!quiet)
       std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", " << normals_time
+                << " s)\n";
+  } else if (!surface.is_mesh() && vm.count("orient-normals")) {
+    const auto normals_start = Clock::now();
+    orient_normals(surface.points, surface.normals, normal_options.k);
+    normals_time = seconds_since(normals_start);
+    if (!quiet)
+      std::cout << "normals: given ones re-oriented (k=" << normal_options.k << ", " << normals_time
                 << " s)\n";
   }
   if (!quiet)

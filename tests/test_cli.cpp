@@ -154,6 +154,21 @@ TEST_F(Cli, TooFewPointsForTheSphereCountIsAnError) {
   EXPECT_FALSE(fs::exists(path("out.ply")));
 }
 
+TEST_F(Cli, ReorientsInwardNormalsOnRequest) {
+  SurfaceInput cloud = test::icosphere(Vec3::Zero(), 1.0, 4);
+  cloud.faces.clear();
+  for (const Vec3& p : cloud.points) cloud.normals.push_back(-p);  // all pointing inward
+  write_surface(path("inward.xyz"), cloud);
+  const Result r = run("skeletonize " + path("inward.xyz") + " --orient-normals -n 1 -o " +
+                       path("out.ma"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("re-oriented"), std::string::npos) << r.out;
+  const MedialMesh mesh = read_medial_mesh(path("out.ma"));
+  ASSERT_EQ(mesh.spheres.size(), 1u);
+  EXPECT_LT(mesh.spheres[0].center.norm(), 0.05);
+  EXPECT_NEAR(mesh.spheres[0].radius, 1.0, 0.05);
+}
+
 TEST_F(Cli, OpenSurfaceGetsAWarning) {
   std::ostringstream plane;
   for (int i = 0; i < 20; ++i)
