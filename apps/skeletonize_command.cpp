@@ -60,6 +60,99 @@ const char* kDescription =
     "\n"
     "options";
 
+// Reads, skeletonizes and writes, printing the summary unless `quiet`.
+void run_skeletonize(const std::string& input, const std::string& output,
+                     const std::string& labels_path, const SkeletonizerOptions& options,
+                     const ShapeOptions& shape_options, const NormalOptions& normal_options,
+                     bool estimate, bool reorient, bool quiet) {
+  const bool show_progress = !quiet && isatty(fileno(stderr));
+  const auto start = Clock::now();
+  CleanReport report;
+  SurfaceInput surface = read_surface(input, &report);
+  const double read_time = seconds_since(start);
+  if (!quiet) {
+    std::cout << "input " << input << ": " << surface.points.size() << " points, "
+              << (surface.is_mesh() ? std::to_string(surface.faces.size()) + " faces"
+                                    : std::string("point cloud"))
+              << (surface.has_normals() || surface.is_mesh() ? "" : ", no normals") << "\n";
+    if (report.total() > 0)
+      std::cout << "cleaned: removed " << report.non_finite_points << " non-finite points, "
+                << report.duplicate_points << " duplicates, " << report.degenerate_faces
+                << " degenerate faces, " << report.unused_points << " unused vertices\n";
+  }
+  double normals_time = 0.0;
+  if (!surface.is_mesh() && (!surface.has_normals() || estimate)) {
+    const auto normals_start = Clock::now();
+    surface.normals = estimate_normals(surface.points, normal_options);
+    normals_time = seconds_since(normals_start);
+    if (!quiet)
+      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", " << normals_time
+                << " s)\n";
+  } else if (!surface.is_mesh() && reorient) {
+    const auto normals_start = Clock::now();
+    orient_normals(surface.points, surface.normals, normal_options.k);
+    normals_time = seconds_since(normals_start);
+    if (!quiet)
+      std::cout << "normals: given ones re-oriented (k=" << normal_options.k << ", " << normals_time
+                << " s)\n";
+  }
+  if (!quiet)
+    std::cout << "parameters: "
+              << (options.target_spheres > 0 ? "spheres=" + std::to_string(options.target_spheres)
+                                             : "error=" + std::to_string(options.error_threshold))
+              << " lambda=" << options.lambda << " k=" << shape_options.k
+              << " projection=" << (options.project ? "on" : "off")
+#ifdef _OPENMP
+              << " threads=" << omp_get_max_threads()
+#endif
+              << "\n";
+
+  const auto shape_start = Clock::now();
+  Skeletonizer skeletonizer(build_shape(surface, shape_options), options);
+  const double shape_time = seconds_since(shape_start);
+  const RunSummary summary = skeletonizer.run([&](const Progress& p) {
+    if (show_progress)
+      std::fprintf(stderr, "\riteration %d: %d spheres, error %.3e   ", p.iteration, p.spheres,
+                   p.error);
+  });
+  if (show_progress) std::fprintf(stderr, "\n");
+  // A ball that never shrank found no sample on either side: the surface is open there (a
+  // single-view scan, a hole), and such a sphere is no medial ball.
+  const double unbounded =
+      0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
+  const auto open_spheres =
+      std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
+                    [&](const Sphere& s) { return s.radius >= unbounded; });
+  if (open_spheres > 0)
+    std::cerr << "vmas skeletonize: warning: " << open_spheres
+              << " spheres found no surface on either side (open or single-view scan?); their "
+                 "radius is the search limit\n";
+  const auto connectivity_start = Clock::now();
+  const MedialMesh mesh = skeletonizer.medial_mesh();
+  const double connectivity_time = seconds_since(connectivity_start);
+  const auto write_start = Clock::now();
+  write_medial_mesh(output, mesh);
+  if (!labels_path.empty()) write_labels(labels_path, skeletonizer.labels());
+  const double write_time = seconds_since(write_start);
+
+  if (!quiet) {
+    const StageTimes& t = skeletonizer.times();
+    std::cout << "result: " << mesh.spheres.size() << " spheres, " << mesh.edges.size()
+              << " edges, " << mesh.faces.size() << " faces; " << summary.iterations
+              << " iterations"
+              << (summary.hit_max_iterations ? " (stopped by --max-iterations)"
+                  : summary.converged        ? ""
+                                             : " (error still changing: stopped after settling)")
+              << ", total error " << summary.error << "\n"
+              << "time (s): total " << seconds_since(start) << " = read " << read_time
+              << ", normals " << normals_time << ", shape " << shape_time << ", partition "
+              << t.partition << ", update " << t.update << ", projection " << t.projection
+              << ", split " << t.split << ", connectivity " << connectivity_time << ", write "
+              << write_time << "\n"
+              << "wrote " << output << (labels_path.empty() ? "" : " and " + labels_path) << "\n";
+  }
+}
+
 }  // namespace
 
 int skeletonize_command(int argc, const char* const* argv) {
@@ -151,92 +244,13 @@ int skeletonize_command(int argc, const char* const* argv) {
   check_output_path(output, "output", {".ply", ".ma"});
   if (!labels_path.empty()) check_output_path(labels_path, "labels file", {});
   const bool quiet = vm.count("quiet") > 0;
-  const bool show_progress = !quiet && isatty(fileno(stderr));
 
-  const auto start = Clock::now();
-  CleanReport report;
-  SurfaceInput surface = read_surface(input, &report);
-  const double read_time = seconds_since(start);
-  if (!quiet) {
-    std::cout << "input " << input << ": " << surface.points.size() << " points, "
-              << (surface.is_mesh() ? std::to_string(surface.faces.size()) + " faces"
-                                    : std::string("point cloud"))
-              << (surface.has_normals() || surface.is_mesh() ? "" : ", no normals") << "\n";
-    if (report.total() > 0)
-      std::cout << "cleaned: removed " << report.non_finite_points << " non-finite points, "
-                << report.duplicate_points << " duplicates, " << report.degenerate_faces
-                << " degenerate faces, " << report.unused_points << " unused vertices\n";
-  }
-  double normals_time = 0.0;
-  if (!surface.is_mesh() && (!surface.has_normals() || vm.count("estimate-normals"))) {
-    const auto normals_start = Clock::now();
-    surface.normals = estimate_normals(surface.points, normal_options);
-    normals_time = seconds_since(normals_start);
-    if (!quiet)
-      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", " << normals_time
-                << " s)\n";
-  } else if (!surface.is_mesh() && vm.count("orient-normals")) {
-    const auto normals_start = Clock::now();
-    orient_normals(surface.points, surface.normals, normal_options.k);
-    normals_time = seconds_since(normals_start);
-    if (!quiet)
-      std::cout << "normals: given ones re-oriented (k=" << normal_options.k << ", " << normals_time
-                << " s)\n";
-  }
-  if (!quiet)
-    std::cout << "parameters: "
-              << (options.target_spheres > 0 ? "spheres=" + std::to_string(options.target_spheres)
-                                             : "error=" + std::to_string(options.error_threshold))
-              << " lambda=" << options.lambda << " k=" << shape_options.k
-              << " projection=" << (options.project ? "on" : "off")
-#ifdef _OPENMP
-              << " threads=" << omp_get_max_threads()
-#endif
-              << "\n";
-
-  const auto shape_start = Clock::now();
-  Skeletonizer skeletonizer(build_shape(surface, shape_options), options);
-  const double shape_time = seconds_since(shape_start);
-  const RunSummary summary = skeletonizer.run([&](const Progress& p) {
-    if (show_progress)
-      std::fprintf(stderr, "\riteration %d: %d spheres, error %.3e   ", p.iteration, p.spheres,
-                   p.error);
-  });
-  if (show_progress) std::fprintf(stderr, "\n");
-  // A ball that never shrank found no sample on either side: the surface is open there (a
-  // single-view scan, a hole), and such a sphere is no medial ball.
-  const double unbounded =
-      0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
-  const auto open_spheres =
-      std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
-                    [&](const Sphere& s) { return s.radius >= unbounded; });
-  if (open_spheres > 0)
-    std::cerr << "vmas skeletonize: warning: " << open_spheres
-              << " spheres found no surface on either side (open or single-view scan?); their "
-                 "radius is the search limit\n";
-  const auto connectivity_start = Clock::now();
-  const MedialMesh mesh = skeletonizer.medial_mesh();
-  const double connectivity_time = seconds_since(connectivity_start);
-  const auto write_start = Clock::now();
-  write_medial_mesh(output, mesh);
-  if (!labels_path.empty()) write_labels(labels_path, skeletonizer.labels());
-  const double write_time = seconds_since(write_start);
-
-  if (!quiet) {
-    const StageTimes& t = skeletonizer.times();
-    std::cout << "result: " << mesh.spheres.size() << " spheres, " << mesh.edges.size()
-              << " edges, " << mesh.faces.size() << " faces; " << summary.iterations
-              << " iterations"
-              << (summary.hit_max_iterations ? " (stopped by --max-iterations)"
-                  : summary.converged        ? ""
-                                             : " (error still changing: stopped after settling)")
-              << ", total error " << summary.error << "\n"
-              << "time (s): total " << seconds_since(start) << " = read " << read_time
-              << ", normals " << normals_time << ", shape " << shape_time << ", partition "
-              << t.partition << ", update " << t.update << ", projection " << t.projection
-              << ", split " << t.split << ", connectivity " << connectivity_time << ", write "
-              << write_time << "\n"
-              << "wrote " << output << (labels_path.empty() ? "" : " and " + labels_path) << "\n";
+  // The stages do not know the file name; errors about the data should carry it.
+  try {
+    run_skeletonize(input, output, labels_path, options, shape_options, normal_options,
+                    vm.count("estimate-normals") > 0, vm.count("orient-normals") > 0, quiet);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(input + ": " + e.what());
   }
   return 0;
 }

@@ -218,8 +218,8 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
   options.validate();
   const int count = static_cast<int>(points.size());
   if (count < options.k + 1)
-    throw InvalidInput(std::to_string(count) + " points are too few to estimate normals with k=" +
-                       std::to_string(options.k));
+    throw InvalidInput("too few points (" + std::to_string(count) +
+                       ") to estimate normals with k=" + std::to_string(options.k));
   const Neighbourhoods neighbours = k_nearest_all(points, options.k);
 
   // PCL works in float: centre the cloud first so that large coordinates keep their precision.

@@ -78,8 +78,8 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   const int n = shape.size();
   if (!input.has_normals()) throw InvalidInput("a point cloud needs normals (estimate them first)");
   if (n <= options.k)
-    throw InvalidInput(std::to_string(n) +
-                       " points are too few for k=" + std::to_string(options.k));
+    throw InvalidInput("too few points (" + std::to_string(n) + ") for k=" +
+                       std::to_string(options.k));
   shape.normals = input.normals;
   const KdTree tree(shape.points);
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.
