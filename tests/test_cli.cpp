@@ -134,9 +134,10 @@ TEST_F(Cli, BadInputFilesGiveOneLineErrorsAndNoOutput) {
   write("unknown.stl", "solid x\n");
   write("nan.xyz", "nan 0 0\n0 nan 0\n");
   write("text.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  write("five.xyz", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n");  // too few to estimate normals
   const std::size_t files = file_count();
   for (const std::string name :
-       {"missing.off", "empty.off", "unknown.stl", "nan.xyz", "text.ply"}) {
+       {"missing.off", "empty.off", "unknown.stl", "nan.xyz", "text.ply", "five.xyz"}) {
     const Result r = run("skeletonize " + path(name) + " --spheres 3 -o " + path("out.ply"));
     EXPECT_EQ(r.exit_code, 1) << name;
     expect_one_line_error(r, name);
