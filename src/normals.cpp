@@ -214,14 +214,13 @@ void NormalOptions::validate() const {
     throw InvalidOption("normal-k must be between 3 and 200 (got " + std::to_string(k) + ")");
 }
 
-std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options) {
-  options.validate();
-  const int count = static_cast<int>(points.size());
-  if (count < options.k + 1)
-    throw InvalidInput("too few points (" + std::to_string(count) +
-                       ") to estimate normals with k=" + std::to_string(options.k));
-  const Neighbourhoods neighbours = k_nearest_all(points, options.k);
+namespace {
 
+// The least-squares plane (unit normal n, offset d: n·x + d = 0) of every point's neighbourhood;
+// NaN where the neighbourhood is degenerate.
+std::vector<Eigen::Vector4d> fitted_planes(const std::vector<Vec3>& points,
+                                           const Neighbourhoods& neighbours) {
+  const int count = static_cast<int>(points.size());
   // PCL works in float: centre the cloud first so that large coordinates keep their precision.
   const Vec3 centroid = centroid_of(points);
   pcl::PointCloud<pcl::PointXYZ> cloud;
@@ -230,8 +229,7 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
     const Eigen::Vector3f p = (points[i] - centroid).cast<float>();
     cloud[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
   }
-
-  std::vector<Vec3> normals(count);
+  std::vector<Eigen::Vector4d> planes(count);
 #pragma omp parallel
   {
     pcl::Indices indices(neighbours.width);
@@ -241,11 +239,46 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
     for (int i = 0; i < count; ++i) {
       std::copy(neighbours.row(i), neighbours.row(i) + neighbours.width, indices.begin());
       pcl::computePointNormal(cloud, indices, plane, curvature);
-      normals[i] = plane.head<3>().cast<double>();  // NaN if degenerate; orient() replaces it
+      const Vec3 normal = plane.head<3>().cast<double>();
+      planes[i] << normal, plane.w() - normal.dot(centroid);  // back to the original frame
     }
   }
+  return planes;
+}
+
+void check_enough_points(int count, int k, const char* what) {
+  if (count < k + 1)
+    throw InvalidInput("too few points (" + std::to_string(count) + ") to " + what +
+                       " with k=" + std::to_string(k));
+}
+
+}  // namespace
+
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options) {
+  options.validate();
+  check_enough_points(static_cast<int>(points.size()), options.k, "estimate normals");
+  const Neighbourhoods neighbours = k_nearest_all(points, options.k);
+  const std::vector<Eigen::Vector4d> planes = fitted_planes(points, neighbours);
+  std::vector<Vec3> normals(points.size());
+  // NaN where degenerate; orient() replaces it.
+  for (std::size_t i = 0; i < points.size(); ++i) normals[i] = planes[i].head<3>();
   orient(points, normals, neighbours);
   return normals;
+}
+
+void smooth_points(std::vector<Vec3>& points, int k, int iterations) {
+  NormalOptions{k}.validate();
+  if (iterations < 0) throw InvalidOption("smoothing iterations must be 0 or more");
+  if (iterations == 0) return;
+  check_enough_points(static_cast<int>(points.size()), k, "smooth");
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    const std::vector<Eigen::Vector4d> planes = fitted_planes(points, k_nearest_all(points, k));
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 normal = planes[i].head<3>();
+      if (!planes[i].allFinite()) continue;  // degenerate neighbourhood: leave the point
+      points[i] -= (normal.dot(points[i]) + planes[i].w()) * normal;
+    }
+  }
 }
 
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
