@@ -186,8 +186,9 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
       ("final-lambda", po::value(&options.final_lambda)->default_value(defaults.final_lambda, "0.01"),
-       "lambda of one last refit once the partition has settled (spheres reach the shape's "
-       "extremities); negative: no final refit")
+       "lambda of the refits that end the run (spheres reach the shape's extremities)")
+      ("final-rounds", po::value(&options.final_rounds)->default_value(defaults.final_rounds),
+       "refits with --final-lambda after the optimisation (0: none)")
       ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&normal_options.k)->default_value(normal_defaults.k),

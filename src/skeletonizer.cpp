@@ -14,9 +14,12 @@ namespace vmas {
 void SkeletonizerOptions::validate() const {
   if (!(lambda >= 0.0 && lambda <= 1e6))
     throw InvalidOption("lambda must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
-  if (!(final_lambda <= 1e6))  // negative: no final refit
-    throw InvalidOption("final lambda must be at most 1e6 (got " + std::to_string(final_lambda) +
+  if (!(final_lambda >= 0.0 && final_lambda <= 1e6))
+    throw InvalidOption("final lambda must be in [0, 1e6] (got " + std::to_string(final_lambda) +
                         ")");
+  if (final_rounds < 0 || final_rounds > 100)
+    throw InvalidOption("final rounds must be between 0 and 100 (got " +
+                        std::to_string(final_rounds) + ")");
   if (target_spheres < 0)
     throw InvalidOption("spheres must be at least 1 (got " + std::to_string(target_spheres) + ")");
   if (!(error_threshold >= 0.0 && error_threshold < 1.0))
@@ -188,8 +191,8 @@ int Skeletonizer::split() {
   std::vector<bool> eligible(count);
   std::vector<double> rank(count);
   for (int c = 0; c < count; ++c) {
-    eligible[c] = !frozen_[c] && static_cast<int>(members_[c].size()) >= 2 &&
-                  worst_errors_[c] > threshold;
+    eligible[c] =
+        !frozen_[c] && static_cast<int>(members_[c].size()) >= 2 && worst_errors_[c] > threshold;
     // Between E(C) (eq. 12), which the paper ranks by, and the worst vertex: ε is a Hausdorff
     // distance, and a well fitted cluster can still leave a tip uncovered. Their geometric mean
     // did best on the benchmark (README, "Where vmas departs from the paper").
@@ -236,9 +239,11 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
       if (converged || since_split >= options_.max_settle_iterations) break;
     }
   }
-  if (options_.final_lambda >= 0.0) {
-    // The partition has settled; one refit with a small λ lets the spheres of extremities reach
-    // them (paper Fig. 5: a small λ fits the features), and the projection keeps them medial.
+  // The partition has settled; refits with a small λ let the spheres of extremities reach them
+  // (paper Fig. 5: a small λ fits the features) and the projection keeps them medial. Later
+  // rounds re-partition first, so that the vertices follow the moved spheres.
+  for (int round = 0; round < options_.final_rounds; ++round) {
+    if (round > 0) repartition();
     fit_and_project(options_.final_lambda);
     refresh_errors(true);
   }

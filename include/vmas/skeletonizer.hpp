@@ -17,8 +17,8 @@ namespace vmas {
 
 struct SkeletonizerOptions {
   double lambda = 0.2;             // weight of the point–sphere term (eq. 8, 11)
-  double final_lambda = 0.01;      // λ of one last refit on the settled partition, which moves
-                                   // the spheres of extremities into them; negative: none
+  double final_lambda = 0.01;      // λ of the refits that end run(): spheres reach extremities
+  int final_rounds = 3;            // refits after the optimisation (0: none)
   int target_spheres = 0;          // stop splitting at this many spheres (0: no count target)
   double error_threshold = 0.0;    // split clusters until no vertex error √(E_v / A(v)) exceeds
                                    // this, relative to the diagonal (0: no error target)
@@ -67,7 +67,7 @@ class Skeletonizer {
   double step();
   // One split round (§3.4); returns the number of spheres added.
   int split();
-  // Steps and splits until the target is met and the error has settled, then the final refit.
+  // Steps and splits until the target is met and the error has settled, then the final refits.
   RunSummary run(const std::function<void(const Progress&)>& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
