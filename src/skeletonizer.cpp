@@ -198,8 +198,10 @@ int Skeletonizer::split() {
     // did best on the benchmark (README, "Where vmas departs from the paper").
     rank[c] = std::sqrt(cluster_errors_[c] * worst_errors_[c]);
   }
+  // No threshold on the rank: `eligible` already holds the error target, and a perfectly fitted
+  // cluster must still be able to split when spheres are missing.
   const auto chosen = select_clusters_to_split(rank, cluster_adjacency(shape_, labels_, count),
-                                               eligible, 0.0, max_count);
+                                               eligible, -1.0, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
     spheres_.push_back(projector_.shrink(worst, -shape_.normals[worst]));
