@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <random>
 #include <utility>
 
+#include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
@@ -81,72 +81,6 @@ struct Random {
 };
 
 // Unit sphere approximated by a subdivided icosahedron (vertices on the sphere).
-SurfaceInput icosphere(int subdivisions) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  SurfaceInput mesh;
-  mesh.points = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  mesh.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (auto& p : mesh.points) p.normalize();
-  for (int level = 0; level < subdivisions; ++level) {
-    std::map<std::pair<int, int>, int> midpoints;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      mesh.points.push_back((mesh.points[a] + mesh.points[b]).normalized());
-      return midpoints[key] = static_cast<int>(mesh.points.size()) - 1;
-    };
-    std::vector<std::array<int, 3>> faces;
-    for (const auto& f : mesh.faces) {
-      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-      faces.insert(faces.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
-    }
-    mesh.faces = std::move(faces);
-  }
-  return mesh;
-}
-
-// Capsule of radius r around the segment from (0,0,-half) to (0,0,half): rings of `segments`
-// vertices (hemisphere latitudes, then the cylinder), closed by the two poles.
-SurfaceInput capsule(double r, double half, int segments) {
-  std::vector<std::pair<double, double>> rings;  // (z, ring radius)
-  const int latitudes = segments / 4;
-  for (int i = 1; i <= latitudes; ++i) {
-    const double angle = kPi / 2 * i / latitudes;
-    rings.push_back({half + r * std::cos(angle), r * std::sin(angle)});
-  }
-  const int lengthwise = static_cast<int>(std::ceil(2 * half / (2 * kPi * r / segments)));
-  for (int i = 1; i < lengthwise; ++i) rings.push_back({half - 2 * half * i / lengthwise, r});
-  for (int i = latitudes; i >= 1; --i) {
-    const double angle = kPi / 2 * i / latitudes;
-    rings.push_back({-half - r * std::cos(angle), r * std::sin(angle)});
-  }
-  SurfaceInput mesh;
-  mesh.points.push_back({0, 0, half + r});
-  for (const auto& [z, rho] : rings) {
-    for (int k = 0; k < segments; ++k) {
-      const double angle = 2 * kPi * k / segments;
-      mesh.points.push_back({rho * std::cos(angle), rho * std::sin(angle), z});
-    }
-  }
-  mesh.points.push_back({0, 0, -half - r});
-  const int bottom = static_cast<int>(mesh.points.size()) - 1;
-  auto at = [&](int ring, int k) { return 1 + ring * segments + (k % segments); };
-  for (int k = 0; k < segments; ++k) {
-    mesh.faces.push_back({0, at(0, k), at(0, k + 1)});
-    for (int ring = 0; ring + 1 < static_cast<int>(rings.size()); ++ring) {
-      mesh.faces.push_back({at(ring, k), at(ring + 1, k), at(ring + 1, k + 1)});
-      mesh.faces.push_back({at(ring, k), at(ring + 1, k + 1), at(ring, k + 1)});
-    }
-    const int last = static_cast<int>(rings.size()) - 1;
-    mesh.faces.push_back({bottom, at(last, k + 1), at(last, k)});
-  }
-  return mesh;
-}
-
 // Brute force outside a hull of spheres: the distance to the union of the interpolated spheres
 // c(t), r(t) over a dense grid of barycentric coordinates (two or three spheres).
 double interpolated_distance(const Vec3& p, const std::vector<Sphere>& spheres, int steps) {
@@ -296,7 +230,7 @@ TEST(EvalGeometry, PointTriangleDistance) {
 }
 
 TEST(Eval, SphereAgainstItsMedialSphereIsAlmostExact) {
-  const SurfaceInput mesh = icosphere(4);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
   MedialMesh medial;
   medial.spheres = {{Vec3::Zero(), 1.0}};
   const EvalResult result = evaluate(mesh, medial);
@@ -310,7 +244,7 @@ TEST(Eval, SphereAgainstItsMedialSphereIsAlmostExact) {
 }
 
 TEST(Eval, ShiftedSphereGivesTheShift) {
-  const SurfaceInput mesh = icosphere(4);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
   MedialMesh medial;
   medial.spheres = {{Vec3(0.1, 0, 0), 1.0}};
   const EvalResult result = evaluate(mesh, medial);
@@ -322,9 +256,9 @@ TEST(Eval, ShiftedSphereGivesTheShift) {
 }
 
 TEST(Eval, CapsuleAgainstItsRoundCone) {
-  const SurfaceInput mesh = capsule(0.5, 1.0, 64);
+  const SurfaceInput mesh = test::capsule(0.5, 2.0, 16, 64);
   MedialMesh medial;
-  medial.spheres = {{Vec3(0, 0, -1), 0.5}, {Vec3(0, 0, 1), 0.5}};
+  medial.spheres = {{Vec3(0, 0, 0), 0.5}, {Vec3(0, 0, 2), 0.5}};
   medial.edges = {{0, 1}};
   const EvalResult result = evaluate(mesh, medial);
   EXPECT_LT(result.hausdorff, 2e-3);
@@ -375,7 +309,7 @@ MedialMesh random_medial(unsigned seed) {
 }
 
 TEST(Eval, AcceleratedDistancesEqualBruteForce) {
-  const SurfaceInput mesh = icosphere(3);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
   const MedialMesh medial = random_medial(5);
   EvalOptions options;
   options.boundary_spacing = 0.01;
@@ -441,7 +375,7 @@ TEST(Eval, AcceleratedDistancesEqualBruteForce) {
 }
 
 TEST(Eval, DeterministicAcrossThreadCounts) {
-  const SurfaceInput mesh = icosphere(3);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
   const MedialMesh medial = random_medial(9);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
@@ -459,7 +393,7 @@ TEST(Eval, DeterministicAcrossThreadCounts) {
 }
 
 TEST(Eval, BadInputsThrow) {
-  const SurfaceInput mesh = icosphere(1);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 1);
   MedialMesh medial;
   EXPECT_THROW(evaluate(mesh, medial), InvalidInput);  // no sphere
   medial.spheres = {{Vec3::Zero(), 0.5}, {Vec3(0.5, 0, 0), 0.2}};
