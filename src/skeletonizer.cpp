@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <string>
 
@@ -182,8 +183,12 @@ int Skeletonizer::split() {
   const auto start = Clock::now();
   const int count = static_cast<int>(spheres_.size());
   const int cap = options_.target_spheres > 0 ? options_.target_spheres : options_.max_spheres;
-  const int max_count = std::min({static_cast<int>(std::ceil(options_.split.max_fraction * count)),
-                                  options_.split.max_per_round, cap - count});
+  // An error target may need thousands of spheres: it grows by the fraction alone, or a fine
+  // threshold would take hundreds of rounds.
+  const int per_round =
+      options_.target_spheres > 0 ? options_.split.max_per_round : std::numeric_limits<int>::max();
+  const int max_count = std::min(
+      {static_cast<int>(std::ceil(options_.split.max_fraction * count)), per_round, cap - count});
   if (max_count <= 0) return 0;
   // With an error target, only clusters that still miss it may split.
   const double threshold =

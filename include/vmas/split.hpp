@@ -6,7 +6,7 @@ namespace vmas {
 
 struct SplitOptions {
   double max_fraction = 0.2;  // at most this fraction of the current sphere count per round
-  int max_per_round = 10;     // and at most this many
+  int max_per_round = 10;     // and at most this many (sphere-count targets only)
   void validate() const;      // throws InvalidOption
 };
 
