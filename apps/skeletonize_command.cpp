@@ -181,8 +181,10 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("spheres,n", po::value(&options.target_spheres),
        "number of medial spheres to produce (met exactly; default 100 when --error is absent)")
       ("error,e", po::value(&options.error_threshold),
-       "instead of a count: split until every vertex's error sqrt(E_v/A_v) is below E "
-       "(relative to the bounding-box diagonal, e.g. 0.005)")
+       "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
+       "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
+      ("max-spheres", po::value(&options.max_spheres)->default_value(defaults.max_spheres),
+       "with --error: never more spheres than this")
       ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
       ("final-lambda", po::value(&options.final_lambda)->default_value(defaults.final_lambda, "0.01"),

@@ -175,7 +175,7 @@ bool Skeletonizer::wants_more_spheres() const {
   if (count >= options_.max_spheres) return false;
   const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
   for (int c = 0; c < count; ++c)
-    if (!frozen_[c] && worst_errors_[c] > threshold) return true;
+    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
   return false;
 }
 
@@ -190,14 +190,14 @@ int Skeletonizer::split() {
   const int max_count = std::min(
       {static_cast<int>(std::ceil(options_.split.max_fraction * count)), per_round, cap - count});
   if (max_count <= 0) return 0;
-  // With an error target, only clusters that still miss it may split.
+  // With an error target, only clusters that still miss it may split (paper §3.4).
   const double threshold =
       options_.target_spheres > 0 ? -1.0 : std::pow(options_.error_threshold * shape_.diagonal, 2);
   std::vector<bool> eligible(count);
   std::vector<double> rank(count);
   for (int c = 0; c < count; ++c) {
     eligible[c] =
-        !frozen_[c] && static_cast<int>(members_[c].size()) >= 2 && worst_errors_[c] > threshold;
+        !frozen_[c] && static_cast<int>(members_[c].size()) >= 2 && cluster_errors_[c] > threshold;
     // Between E(C) (eq. 12), which the paper ranks by, and the worst vertex: ε is a Hausdorff
     // distance, and a well fitted cluster can still leave a tip uncovered. Their geometric mean
     // did best on the benchmark (README, "Where vmas departs from the paper").

@@ -79,7 +79,7 @@ TEST(Skeletonizer, ErrorThresholdStopsSplitting) {
   fine.run();
   EXPECT_LT(coarse.spheres().size(), fine.spheres().size());
   const double limit = std::pow(0.002 * fine.shape().diagonal, 2);
-  for (double e : fine.worst_errors()) EXPECT_LE(e, limit * 1.0001);
+  for (double e : fine.cluster_errors()) EXPECT_LE(e, limit * 1.0001);
 }
 
 TEST(Skeletonizer, DynamicEditingBetweenSteps) {

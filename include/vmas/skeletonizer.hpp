@@ -16,17 +16,17 @@
 namespace vmas {
 
 struct SkeletonizerOptions {
-  double lambda = 0.2;             // weight of the point–sphere term (eq. 8, 11)
-  double final_lambda = 0.01;      // λ of the refits that end run(): spheres reach extremities
-  int final_rounds = 3;            // refits after the optimisation (0: none)
-  int target_spheres = 0;          // stop splitting at this many spheres (0: no count target)
-  double error_threshold = 0.0;    // split clusters until no vertex error √(E_v / A(v)) exceeds
-                                   // this, relative to the diagonal (0: no error target)
-  int max_spheres = 5000;          // hard cap when only an error threshold is given
-  int max_iterations = 3000;       // partition + update steps in run()
-  double convergence = 2e-4;       // converged when the total error changes by less (relative)
-  int split_interval = 10;         // split at least every this many steps while spheres are missing
-  int settle_iterations = 3;       // steps after the last split before run() may stop
+  double lambda = 0.2;           // weight of the point–sphere term (eq. 8, 11)
+  double final_lambda = 0.01;    // λ of the refits that end run(): spheres reach extremities
+  int final_rounds = 3;          // refits after the optimisation (0: none)
+  int target_spheres = 0;        // stop splitting at this many spheres (0: no count target)
+  double error_threshold = 0.0;  // split until every cluster's RMS error √E(C) (eq. 12) is below
+                                 // this, relative to the diagonal (0: no error target)
+  int max_spheres = 5000;        // hard cap when only an error threshold is given
+  int max_iterations = 3000;     // partition + update steps in run()
+  double convergence = 2e-4;     // converged when the total error changes by less (relative)
+  int split_interval = 10;       // split at least every this many steps while spheres are missing
+  int settle_iterations = 3;     // steps after the last split before run() may stop
   int max_settle_iterations = 30;  // ... and after which it stops even if not converged
   int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
                                    // of the worst cluster after a partition
@@ -80,8 +80,7 @@ class Skeletonizer {
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
-  // max E_v / A(v) over each cluster: what the error threshold bounds; splitting ranks clusters
-  // by √(E(C) · this).
+  // max E_v / A(v) over each cluster; splitting ranks clusters by √(E(C) · this).
   const std::vector<double>& worst_errors() const { return worst_errors_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
