@@ -5,7 +5,6 @@
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -30,25 +29,13 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-// Fails before any work is done when the outputs cannot possibly be written.
-void check_output_path(const std::string& path, const std::string& what,
-                       std::initializer_list<const char*> extensions) {
-  if (std::filesystem::is_directory(path))
-    throw InvalidOption(what + " '" + path + "' is a directory");
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent))
-    throw InvalidOption(what + " '" + path + "': folder '" + parent.string() + "' does not exist");
-  if (extensions.size() == 0) return;
-  const std::string ext = lower_extension(path);
-  for (const char* allowed : extensions)
-    if (ext == allowed) return;
-  throw InvalidOption(what + " '" + path + "' must end in .ply or .ma");
+// Fails before any work is done when an output cannot possibly be written (a usage error).
+void check_output_option(const std::string& path, void (*check)(const std::string&)) {
+  try {
+    check(path);
+  } catch (const IoError& e) {
+    throw InvalidOption(e.what());
+  }
 }
 
 const char* kDescription =
@@ -258,8 +245,8 @@ int skeletonize_command(int argc, const char* const* argv) {
   options.validate();
   shape_options.validate();
   normal_options.validate();
-  check_output_path(output, "output", {".ply", ".ma"});
-  if (!labels_path.empty()) check_output_path(labels_path, "labels file", {});
+  check_output_option(output, check_medial_mesh_output);
+  if (!labels_path.empty()) check_output_option(labels_path, check_output);
   const bool quiet = vm.count("quiet") > 0;
 
   // The stages do not know the file name; errors about the data should carry it.

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <random>
 
 #include "io_internal.hpp"
@@ -50,7 +51,23 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
 
 }  // namespace
 
+void check_output(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) fail(path, "cannot write: is a directory");
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder, error))
+    fail(path, "cannot write: folder " + quote(folder.string()) + " does not exist");
+}
+
+void check_medial_mesh_output(const std::string& path) {
+  check_output(path);
+  const std::string extension = io_internal::lower_extension(path);
+  if (extension != ".ply" && extension != ".ma")
+    fail(path, "cannot write a medial mesh as " + quote(extension) + " (expected .ply or .ma)");
+}
+
 void write_file_atomically(const std::string& path, const std::string& contents) {
+  check_output(path);
   const auto failure = [&](const std::string& reason) {
     fail(path, "cannot write (" + reason + ")");
   };
@@ -141,6 +158,7 @@ void write_surface(const std::string& path, const SurfaceInput& surface) {
 }
 
 void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
+  check_medial_mesh_output(path);
   const std::string extension = io_internal::lower_extension(path);
   std::string out;
   if (extension == ".ply") {
@@ -162,7 +180,7 @@ void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
       append_binary(out, std::uint8_t{3});
       for (int index : face) append_binary(out, static_cast<std::int32_t>(index));
     }
-  } else if (extension == ".ma") {
+  } else {  // .ma
     out = std::to_string(mesh.spheres.size()) + " " + std::to_string(mesh.edges.size()) + " " +
           std::to_string(mesh.faces.size()) + "\n";
     for (const Sphere& sphere : mesh.spheres) {
@@ -174,8 +192,6 @@ void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
     for (const Face& face : mesh.faces)
       out += "f " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
              std::to_string(face[2]) + "\n";
-  } else {
-    fail(path, "cannot write medial mesh as " + quote(extension) + " (expected .ply or .ma)");
   }
   write_file_atomically(path, out);
 }

@@ -55,4 +55,10 @@ void write_labels(const std::string& path, const std::vector<int>& labels);
 // Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
 void write_file_atomically(const std::string& path, const std::string& contents);
 
+// Throw the IoError the matching writer would, without writing: for front ends that must fail
+// before a long run. check_output: `path` is a directory or its folder does not exist;
+// check_medial_mesh_output also: the extension is not .ply or .ma.
+void check_output(const std::string& path);
+void check_medial_mesh_output(const std::string& path);
+
 }  // namespace vmas
