@@ -10,10 +10,6 @@
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace po = boost::program_options;
 
 namespace vmas::cli {
@@ -60,19 +56,21 @@ int eval_command(int argc, const char* const* argv) {
   std::string shape_path, medial_path, errors_path;
   int threads = 0;
   po::options_description visible(kDescription);
-  visible.add_options()("help,h", "print this help")(
-      "json", "print one JSON object instead of the summary")(
-      "samples", po::value(&options.surface_samples)->default_value(defaults.surface_samples),
-      "random surface samples added to the vertices of a mesh (-1: as many as vertices)")(
-      "seed", po::value(&options.seed)->default_value(defaults.seed),
-      "seed of the random surface samples")(
-      "spacing",
-      po::value(&options.boundary_spacing)
-          ->default_value(defaults.boundary_spacing, number(defaults.boundary_spacing)),
-      "distance between samples on the primitives' boundaries (fraction of the diagonal)")(
-      "errors", po::value(&errors_path),
-      "write the surface-to-medial distance of every input point to FILE, one per line")(
-      "threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)");
+  // clang-format off
+  visible.add_options()
+      ("help,h", "print this help")
+      ("json", "print one JSON object instead of the summary")
+      ("samples", po::value(&options.surface_samples)->default_value(defaults.surface_samples),
+       "random surface samples added to the vertices of a mesh (-1: as many as vertices)")
+      ("seed", po::value(&options.seed)->default_value(defaults.seed),
+       "seed of the random surface samples")
+      ("spacing", po::value(&options.boundary_spacing)
+           ->default_value(defaults.boundary_spacing, number(defaults.boundary_spacing)),
+       "distance between samples on the primitives' boundaries (fraction of the diagonal)")
+      ("errors", po::value(&errors_path),
+       "write the surface-to-medial distance of every input point to FILE, one per line")
+      ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)");
+  // clang-format on
   po::options_description hidden;
   hidden.add_options()("shape", po::value(&shape_path))("medial", po::value(&medial_path));
   po::options_description all;
@@ -88,10 +86,7 @@ int eval_command(int argc, const char* const* argv) {
   }
   po::notify(vm);
   if (shape_path.empty() || medial_path.empty()) throw po::error("missing SHAPE or MEDIAL");
-  if (threads < 0) throw InvalidOption("--threads must be 0 or more");
-#ifdef _OPENMP
-  if (threads > 0) omp_set_num_threads(threads);
-#endif
+  set_threads(threads);
   options.validate();
 
   const auto start = std::chrono::steady_clock::now();

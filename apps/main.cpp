@@ -7,6 +7,21 @@
 #include "commands.hpp"
 #include "vmas/error.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace vmas::cli {
+
+void set_threads(int threads) {
+  if (threads < 0) throw InvalidOption("--threads must be 0 or more");
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#endif
+}
+
+}  // namespace vmas::cli
+
 namespace {
 
 constexpr const char* kUsage =

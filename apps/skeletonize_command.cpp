@@ -237,11 +237,8 @@ int skeletonize_command(int argc, const char* const* argv) {
   if (vm.count("error") && !(options.error_threshold > 0.0))
     throw InvalidOption("--error must be positive");
   options.project = !vm.count("no-projection");
-  if (threads < 0) throw InvalidOption("--threads must be 0 or more");
   if (smoothing < 0 || smoothing > 100) throw InvalidOption("--smooth must be between 0 and 100");
-#ifdef _OPENMP
-  if (threads > 0) omp_set_num_threads(threads);
-#endif
+  set_threads(threads);
   options.validate();
   shape_options.validate();
   normal_options.validate();
