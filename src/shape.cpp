@@ -78,8 +78,8 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   const int n = shape.size();
   if (!input.has_normals()) throw InvalidInput("a point cloud needs normals (estimate them first)");
   if (n <= options.k)
-    throw InvalidInput("too few points (" + std::to_string(n) + ") for k=" +
-                       std::to_string(options.k));
+    throw InvalidInput("too few points (" + std::to_string(n) +
+                       ") for k=" + std::to_string(options.k));
   shape.normals = input.normals;
   const KdTree tree(shape.points);
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.
@@ -117,7 +117,6 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
 constexpr int kBlockSize = 32;
 
 // Splits vertices[begin, end) at the median of its widest axis until at most kBlockSize remain.
-
 void split_blocks(const std::vector<Vec3>& points, int begin, int end, VertexBlocks& blocks) {
   auto first = blocks.vertices.begin() + begin;
   auto last = blocks.vertices.begin() + end;
@@ -163,12 +162,12 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   Shape shape;
   shape.points = input.points;
   shape.is_mesh = input.is_mesh();
-  shape.box_min = shape.box_max = input.points.front();
+  Vec3 low = input.points.front(), high = low;
   for (const Vec3& p : input.points) {
-    shape.box_min = shape.box_min.cwiseMin(p);
-    shape.box_max = shape.box_max.cwiseMax(p);
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
   }
-  shape.diagonal = (shape.box_max - shape.box_min).norm();
+  shape.diagonal = (high - low).norm();
   if (!(shape.diagonal > 0.0)) throw InvalidInput("all points coincide");
   if (shape.is_mesh)
     build_mesh_attributes(input, shape);

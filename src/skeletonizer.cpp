@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "vmas/connectivity.hpp"
@@ -105,7 +105,7 @@ bool Skeletonizer::reseed_tiny_clusters() {
   const std::size_t moved = std::min(tiny.size(), donors.size());
   for (std::size_t i = 0; i < moved; ++i) {
     const int worst = worst_vertex(donors[i]);
-    spheres_[tiny[i]] = projector_.shrink(worst, -shape_.normals[worst]);
+    spheres_[tiny[i]] = projector_.ball_at(worst);
   }
   return moved > 0;
 }
@@ -209,7 +209,7 @@ int Skeletonizer::split() {
                                                eligible, -1.0, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
-    spheres_.push_back(projector_.shrink(worst, -shape_.normals[worst]));
+    spheres_.push_back(projector_.ball_at(worst));
     frozen_.push_back(false);
   }
   times_.split += seconds_since(start);
@@ -269,7 +269,7 @@ void Skeletonizer::check_id(int id) const {
 int Skeletonizer::add_sphere_at(int vertex) {
   if (vertex < 0 || vertex >= shape_.size())
     throw InvalidOption("no vertex with index " + std::to_string(vertex));
-  spheres_.push_back(projector_.shrink(vertex, -shape_.normals[vertex]));
+  spheres_.push_back(projector_.ball_at(vertex));
   frozen_.push_back(false);
   repartition();
   return static_cast<int>(spheres_.size()) - 1;

@@ -24,11 +24,12 @@ class MedialProjector {
   // (or along −inward when that side is the outside: a flipped normal).
   Sphere shrink(int vertex, const Vec3& inward) const;
 
+  // The medial ball touching `vertex` along its inward normal: how new spheres are seeded.
+  Sphere ball_at(int vertex) const { return shrink(vertex, -shape_.normals[vertex]); }
+
   // Moves a fitted sphere centre onto the medial axis: the shrinking ball from the input point
   // closest to `center`, in the direction of `center` if that points inside, else along −normal.
   Sphere project(const Vec3& center) const;
-
-  const KdTree& tree() const { return tree_; }
 
  private:
   // One shrinking-ball run; `contact` is the sample that last shrank the ball (-1: none).

@@ -35,8 +35,6 @@ struct Shape {
   std::vector<int> neighbours;  //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
   VertexBlocks blocks;
   bool is_mesh = false;
-  Vec3 box_min = Vec3::Zero();
-  Vec3 box_max = Vec3::Zero();
   double diagonal = 0.0;  // bounding-box diagonal: the unit of every relative length
   double total_area = 0.0;
 

@@ -80,8 +80,6 @@ class Skeletonizer {
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
-  // max E_v / A(v) over each cluster; splitting ranks clusters by √(E(C) · this).
-  const std::vector<double>& worst_errors() const { return worst_errors_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
   const SkeletonizerOptions& options() const { return options_; }
@@ -107,7 +105,7 @@ class Skeletonizer {
   std::vector<double> vertex_energies_;
   std::vector<std::vector<int>> members_;
   std::vector<double> cluster_errors_;
-  std::vector<double> worst_errors_;
+  std::vector<double> worst_errors_;  // max E_v / A(v) per cluster (split ranking)
   double total_error_ = 0.0;
   StageTimes times_;
 };
