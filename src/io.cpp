@@ -1,9 +1,9 @@
 // Readers of the IO stage (one tokenizer and one PLY parser for every format) and clean_surface.
 #include "vmas/io.hpp"
 
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/io/pcd_io.h>
+#include <pcl/io/lzf.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -12,10 +12,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string_view>
+#include <tuple>
+#include <vector>
 
 #include "io_internal.hpp"
 #include "vmas/error.hpp"
@@ -30,6 +31,8 @@ using io_internal::quote;
 
 using Face = std::array<int, 3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Coordinates beyond this make squared distances overflow.
+constexpr double kMaxCoordinate = 1e150;
 
 // Fails with a clear message for the usual reasons a path cannot be read.
 void check_readable(const std::string& path) {
@@ -44,8 +47,10 @@ std::string read_file(const std::string& path) {
   check_readable(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes(std::filesystem::file_size(path), '\0');  // no regrowth: 1x the file
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (in.bad()) fail(path, "read error");
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
   if (bytes.empty()) fail(path, "empty file");
   return bytes;
 }
@@ -92,6 +97,10 @@ class LineTokenizer {
   [[noreturn]] void fail(const std::string& problem) const {
     vmas::fail(path_, "line " + std::to_string(line_) + ": " + problem);
   }
+
+  // Where the text after the last line read starts, and that line's number.
+  std::size_t position() const { return std::min(position_, text_.size()); }
+  std::size_t line() const { return line_; }
 
   double number(std::string_view token) const { return parse<double>(token); }
   long long integer(std::string_view token) const { return parse<long long>(token); }
@@ -155,28 +164,23 @@ std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_c
 }
 
 // Collects points whose normals may be given for some and missing for others. Missing normals
-// become NaN so that clean_surface drops those points; without any normal, none are kept.
+// become NaN so that clean_surface drops those points; without any normal, none are stored.
 class PointSink {
  public:
-  void add(const Vec3& point) { push(point, Vec3::Constant(kNaN)); }
+  void add(const Vec3& point) {
+    surface_.points.push_back(point);
+    if (!surface_.normals.empty()) surface_.normals.push_back(Vec3::Constant(kNaN));
+  }
   void add_with_normal(const Vec3& point, const Vec3& normal) {
-    push(point, normal);
-    any_normal_ = true;
-  }
-  std::vector<Face>& faces() { return surface_.faces; }
-  SurfaceInput finish() {
-    if (!any_normal_) surface_.normals.clear();
-    return std::move(surface_);
-  }
-
- private:
-  void push(const Vec3& point, const Vec3& normal) {
+    surface_.normals.resize(surface_.points.size(), Vec3::Constant(kNaN));
     surface_.points.push_back(point);
     surface_.normals.push_back(normal);
   }
+  std::vector<Face>& faces() { return surface_.faces; }
+  SurfaceInput finish() { return std::move(surface_); }
 
+ private:
   SurfaceInput surface_;
-  bool any_normal_ = false;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -614,74 +618,238 @@ SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
   return sink.finish();
 }
 
-SurfaceInput read_pcd(const std::string& path) {
-  check_readable(path);
-  pcl::PCLPointCloud2 cloud;
-  int status = -1;
-  try {
-    status = pcl::PCDReader().read(path, cloud);
-  } catch (const std::exception& error) {
-    std::string what = error.what();
-    fail(path, "malformed PCD file (" + what.substr(0, what.find('\n')) + ")");
-  }
-  if (status < 0) fail(path, "malformed or truncated PCD file");
+// PCD is read here rather than by pcl::PCDReader, which trusts the header: a malformed one
+// crashes it, and a large POINTS makes it allocate before it compares with the file size.
 
-  struct Column {
-    std::size_t offset = 0;
-    ScalarType type = ScalarType::kFloat32;
-  };
-  const auto column = [&](const std::string& name, Column& result) {
-    for (const pcl::PCLPointField& field : cloud.fields) {
-      if (field.name != name) continue;
-      using F = pcl::PCLPointField;
-      static const std::pair<int, ScalarType> kTypes[] = {
-          {F::INT8, ScalarType::kInt8},       {F::UINT8, ScalarType::kUint8},
-          {F::INT16, ScalarType::kInt16},     {F::UINT16, ScalarType::kUint16},
-          {F::INT32, ScalarType::kInt32},     {F::UINT32, ScalarType::kUint32},
-          {F::INT64, ScalarType::kInt64},     {F::UINT64, ScalarType::kUint64},
-          {F::FLOAT32, ScalarType::kFloat32}, {F::FLOAT64, ScalarType::kFloat64}};
-      const auto known = std::find_if(std::begin(kTypes), std::end(kTypes), [&](const auto& entry) {
-        return entry.first == field.datatype;
-      });
-      if (known == std::end(kTypes)) fail(path, "PCD field '" + name + "' has an unsupported type");
-      result = {field.offset, known->second};
-      if (result.offset + scalar_size(result.type) > cloud.point_step)
-        fail(path, "PCD field '" + name + "' lies outside its point");
+struct PcdField {
+  std::string_view name;
+  std::size_t size = 4;  // bytes of one value
+  char type = 'F';       // I, U or F
+  std::size_t count = 1;
+  ScalarType scalar = ScalarType::kFloat32;
+  std::size_t offset = 0;  // of its first value in a point of DATA binary
+  std::size_t value = 0;   // index of its first value on a line of DATA ascii
+  std::size_t block = 0;   // of its first value in unpacked DATA binary_compressed
+};
+
+// No usable point needs more bytes (PCL's largest descriptors take a few KB).
+constexpr std::size_t kPcdMaxPointBytes = std::size_t{1} << 16;
+// LZF output is at most 88 times its input: a 3-byte back reference yields 264 bytes.
+constexpr std::size_t kLzfMaxExpansion = 88;
+
+bool pcd_scalar(char type, std::size_t size, ScalarType& scalar) {
+  static const std::tuple<char, std::size_t, ScalarType> kTypes[] = {
+      {'I', 1, ScalarType::kInt8},   {'I', 2, ScalarType::kInt16},  {'I', 4, ScalarType::kInt32},
+      {'I', 8, ScalarType::kInt64},  {'U', 1, ScalarType::kUint8},  {'U', 2, ScalarType::kUint16},
+      {'U', 4, ScalarType::kUint32}, {'U', 8, ScalarType::kUint64}, {'F', 4, ScalarType::kFloat32},
+      {'F', 8, ScalarType::kFloat64}};
+  for (const auto& [t, s, value] : kTypes)
+    if (t == type && s == size) {
+      scalar = value;
       return true;
     }
-    return false;
-  };
-  Column columns[6];
-  const char* const kNames[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-  bool found[6];
-  for (int c = 0; c < 6; ++c) found[c] = column(kNames[c], columns[c]);
-  if (!found[0] || !found[1] || !found[2]) fail(path, "PCD file has no x, y, z fields");
-  const bool has_normals = found[3] && found[4] && found[5];
+  return false;
+}
 
-  const std::size_t row_end = std::size_t{cloud.width} * cloud.point_step;
-  if (cloud.height > 0 && cloud.width > 0 &&
-      (std::size_t{cloud.height} - 1) * cloud.row_step + row_end > cloud.data.size())
-    fail(path, "truncated: PCD data smaller than its header announces");
-  const char* const data = reinterpret_cast<const char*>(cloud.data.data());
-  const bool swap = cloud.is_bigendian == host_is_little_endian();
-  SurfaceInput surface;
-  for (std::size_t row = 0; row < cloud.height; ++row)
-    for (std::size_t col = 0; col < cloud.width; ++col) {
-      const char* point = data + row * cloud.row_step + col * cloud.point_step;
-      double values[6] = {0, 0, 0, 0, 0, 0};
-      for (int c = 0; c < (has_normals ? 6 : 3); ++c) {
-        const char* cursor = point + columns[c].offset;
-        read_scalar(cursor, cursor + scalar_size(columns[c].type), columns[c].type, swap,
-                    values[c]);
+SurfaceInput read_pcd(const std::string& path) {
+  const std::string bytes = read_file(path);
+  LineTokenizer lines(path, bytes);
+  std::vector<std::string_view> tokens;
+  std::vector<PcdField> fields;
+  bool has_fields = false, has_size = false, has_type = false;
+  std::size_t width = 0, height = 0, points = 0;
+  bool has_width = false, has_height = false, has_points = false;
+  std::string_view data;
+  while (data.empty()) {
+    if (!lines.next(tokens)) fail(path, "bad PCD header: no DATA line");
+    const std::string_view keyword = tokens[0];
+    const auto one_per_field = [&]() {
+      if (!has_fields) lines.fail("bad PCD header: " + std::string(keyword) + " before FIELDS");
+      if (tokens.size() != fields.size() + 1)
+        lines.fail("bad PCD header: " + std::to_string(tokens.size() - 1) + " " +
+                   std::string(keyword) + " entries for " + std::to_string(fields.size()) +
+                   " fields");
+    };
+    const auto number = [&](bool& seen) {
+      if (tokens.size() != 2)
+        lines.fail("bad PCD header: expected '" + std::string(keyword) + " N'");
+      seen = true;
+      return lines.count(tokens[1]);
+    };
+    if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
+    if (keyword == "FIELDS" || keyword == "COLUMNS") {
+      if (tokens.size() < 2) lines.fail("bad PCD header: no field names");
+      fields.assign(tokens.size() - 1, PcdField{});
+      for (std::size_t f = 0; f < fields.size(); ++f) fields[f].name = tokens[f + 1];
+      has_fields = true;
+    } else if (keyword == "SIZE") {
+      one_per_field();
+      for (std::size_t f = 0; f < fields.size(); ++f) fields[f].size = lines.count(tokens[f + 1]);
+      has_size = true;
+    } else if (keyword == "TYPE") {
+      one_per_field();
+      for (std::size_t f = 0; f < fields.size(); ++f) {
+        if (tokens[f + 1].size() != 1)
+          lines.fail("bad PCD header: unknown type " + quote(tokens[f + 1]));
+        fields[f].type = tokens[f + 1][0];
       }
-      surface.points.emplace_back(values[0], values[1], values[2]);
-      if (has_normals) surface.normals.emplace_back(values[3], values[4], values[5]);
+      has_type = true;
+    } else if (keyword == "COUNT") {  // optional, 1 by default
+      one_per_field();
+      for (std::size_t f = 0; f < fields.size(); ++f) {
+        fields[f].count = lines.count(tokens[f + 1]);
+        if (fields[f].count == 0 || fields[f].count > kPcdMaxPointBytes)
+          lines.fail("bad PCD header: COUNT " + quote(tokens[f + 1]) + " out of range");
+      }
+    } else if (keyword == "WIDTH") {
+      width = number(has_width);
+    } else if (keyword == "HEIGHT") {
+      height = number(has_height);
+    } else if (keyword == "POINTS") {
+      points = number(has_points);
+    } else if (keyword == "DATA") {
+      if (tokens.size() != 2 ||
+          (tokens[1] != "ascii" && tokens[1] != "binary" && tokens[1] != "binary_compressed"))
+        lines.fail(
+            "bad PCD header: expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
+      data = tokens[1];
+    } else {
+      lines.fail("bad PCD header: unknown keyword " + quote(keyword));
     }
+  }
+  const std::pair<bool, const char*> kRequired[] = {{has_fields, "FIELDS"}, {has_size, "SIZE"},
+                                                    {has_type, "TYPE"},     {has_width, "WIDTH"},
+                                                    {has_height, "HEIGHT"}, {has_points, "POINTS"}};
+  for (const auto& [seen, keyword] : kRequired)
+    if (!seen) fail(path, std::string("bad PCD header: no ") + keyword + " line");
+  if (width * height != points || (width != 0 && points / width != height))
+    fail(path, "bad PCD header: WIDTH " + std::to_string(width) + " x HEIGHT " +
+                   std::to_string(height) + " is not POINTS " + std::to_string(points));
+
+  std::size_t point_step = 0, values_per_point = 0, packed_step = 0;
+  for (PcdField& field : fields) {
+    if (!pcd_scalar(field.type, field.size, field.scalar))
+      fail(path, "bad PCD header: field '" + std::string(field.name) + "' has unsupported TYPE " +
+                     quote(std::string(1, field.type)) + " with SIZE " +
+                     std::to_string(field.size));
+    field.offset = point_step;
+    field.value = values_per_point;
+    point_step += field.size * field.count;  // each term <= 8 * kPcdMaxPointBytes: no overflow
+    values_per_point += field.count;
+    if (field.name != "_") packed_step += field.size * field.count;  // "_" pads binary points
+    if (point_step > kPcdMaxPointBytes)
+      fail(path,
+           "bad PCD header: points of more than " + std::to_string(kPcdMaxPointBytes) + " bytes");
+  }
+  const auto find = [&](std::string_view name) -> const PcdField* {
+    for (const PcdField& field : fields)
+      if (field.name == name) return &field;
+    return nullptr;
+  };
+  const PcdField* columns[6];
+  const char* const kNames[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+  for (int c = 0; c < 6; ++c) columns[c] = find(kNames[c]);
+  if (!columns[0] || !columns[1] || !columns[2]) fail(path, "PCD file has no x, y, z fields");
+  const int wanted = columns[3] && columns[4] && columns[5] ? 6 : 3;
+
+  SurfaceInput surface;
+  const auto add = [&](const double(&values)[6]) {
+    surface.points.emplace_back(values[0], values[1], values[2]);
+    if (wanted == 6) surface.normals.emplace_back(values[3], values[4], values[5]);
+  };
+  const std::string_view body = std::string_view(bytes).substr(lines.position());
+  if (data == "ascii") {
+    LineTokenizer rows(path, body, lines.line());
+    double values[6] = {};
+    while (rows.next(tokens)) {
+      if (surface.points.size() == points)
+        rows.fail("more points than POINTS " + std::to_string(points));
+      if (tokens.size() != values_per_point)
+        rows.fail("expected " + std::to_string(values_per_point) + " values, found " +
+                  std::to_string(tokens.size()));
+      for (int c = 0; c < wanted; ++c) {
+        values[c] = rows.number(tokens[columns[c]->value]);
+        // As if stored in the field's type, like the binary formats (and PCL)
+        if (columns[c]->scalar == ScalarType::kFloat32) values[c] = static_cast<float>(values[c]);
+      }
+      add(values);
+    }
+    if (surface.points.size() < points)
+      fail(path, "truncated: " + std::to_string(surface.points.size()) + " of " +
+                     std::to_string(points) + " points");
+    return surface;
+  }
+
+  // PCL writes binary data in the host's order, which is little-endian everywhere it runs.
+  const bool swap = !host_is_little_endian();
+  const auto read_points = [&](const char* start, auto&& at) {
+    double values[6] = {};
+    for (std::size_t i = 0; i < points; ++i) {
+      for (int c = 0; c < wanted; ++c) {
+        const char* cursor = start + at(*columns[c], i);
+        read_scalar(cursor, cursor + columns[c]->size, columns[c]->scalar, swap, values[c]);
+      }
+      add(values);
+    }
+  };
+  if (data == "binary") {
+    if (points > body.size() / point_step)
+      fail(path, "truncated: PCD data of " + std::to_string(body.size()) + " bytes, too few for " +
+                     std::to_string(points) + " points of " + std::to_string(point_step) +
+                     " bytes");
+    read_points(body.data(), [&](const PcdField& field, std::size_t i) {
+      return i * point_step + field.offset;
+    });
+    return surface;
+  }
+
+  // binary_compressed: two 32-bit sizes, then LZF data that unpacks to one block per field
+  // (all points' values of the first field, then of the second, ...), "_" fields left out.
+  double sizes[2] = {};
+  const char* cursor = body.data();
+  for (double& size : sizes)
+    if (!read_scalar(cursor, body.data() + body.size(), ScalarType::kUint32, swap, size))
+      fail(path, "truncated: no compressed data sizes");
+  const auto compressed = static_cast<std::size_t>(sizes[0]);
+  const auto uncompressed = static_cast<std::size_t>(sizes[1]);
+  if (compressed > body.size() - 8)
+    fail(path, "truncated: " + std::to_string(compressed) +
+                   " bytes of compressed data announced, " + std::to_string(body.size() - 8) +
+                   " present");
+  if (points > uncompressed / std::max<std::size_t>(packed_step, 1) ||
+      uncompressed != points * packed_step)
+    fail(path, "corrupt: " + std::to_string(uncompressed) + " uncompressed bytes for " +
+                   std::to_string(points) + " points of " + std::to_string(packed_step) + " bytes");
+  if (uncompressed > kLzfMaxExpansion * compressed)
+    fail(path, "corrupt: " + std::to_string(compressed) + " compressed bytes cannot hold " +
+                   std::to_string(uncompressed));
+  if (points == 0) return surface;
+  std::vector<char> unpacked(uncompressed);
+  if (pcl::lzfDecompress(cursor, static_cast<unsigned>(compressed), unpacked.data(),
+                         static_cast<unsigned>(uncompressed)) != uncompressed)
+    fail(path,
+         "corrupt: compressed data does not unpack to " + std::to_string(uncompressed) + " bytes");
+  std::size_t start = 0;
+  for (PcdField& field : fields) {
+    field.block = start;
+    if (field.name != "_") start += points * field.size * field.count;
+  }
+  read_points(unpacked.data(), [&](const PcdField& field, std::size_t i) {
+    return field.block + i * field.size * field.count;
+  });
   return surface;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Medial meshes
+
+constexpr const char* kSphereOutOfRange =
+    "sphere out of range (non-finite, or a value beyond 1e150)";
+
+bool in_range(const Sphere& sphere) {
+  return (sphere.center.array().abs() <= kMaxCoordinate).all() &&
+         std::abs(sphere.radius) <= kMaxCoordinate;  // false for NaN too
+}
 
 MedialMesh parse_ma(const std::string& path, std::string_view text) {
   LineTokenizer lines(path, text);
@@ -705,8 +873,7 @@ MedialMesh parse_ma(const std::string& path, std::string_view text) {
     if (tokens.size() < needed) lines.fail("expected " + std::to_string(needed - 1) + " values");
     if (kind == "v") {
       const Sphere sphere{lines.vec3(tokens, 1), lines.number(tokens[4])};
-      if (!sphere.center.allFinite() || !std::isfinite(sphere.radius))
-        lines.fail("non-finite sphere");
+      if (!in_range(sphere)) lines.fail(kSphereOutOfRange);
       mesh.spheres.push_back(sphere);
     } else if (kind == "e") {
       mesh.edges.push_back({index(tokens[1]), index(tokens[2])});
@@ -734,8 +901,7 @@ MedialMesh parse_ply_medial(const std::string& path, std::string_view bytes) {
   MedialMesh mesh;
   for (std::size_t i = 0; i < vertex->count; ++i) {
     const Sphere sphere{Vec3(x[i], y[i], z[i]), radius[i]};
-    if (!sphere.center.allFinite() || !std::isfinite(sphere.radius))
-      fail(path, "vertex " + std::to_string(i) + ": non-finite sphere");
+    if (!in_range(sphere)) fail(path, "vertex " + std::to_string(i) + ": " + kSphereOutOfRange);
     mesh.spheres.push_back(sphere);
   }
   if (const PlyElement* edge = ply.find("edge"); edge && edge->count > 0) {
@@ -781,7 +947,12 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report) {
                    " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
   }
   if (surface.points.empty()) fail(path, "no points");
-  const CleanReport cleaned = clean_surface(surface);
+  CleanReport cleaned;
+  try {
+    cleaned = clean_surface(surface);
+  } catch (const InvalidInput& error) {
+    fail(path, error.what());
+  }
   if (surface.points.empty()) fail(path, "no usable points");
   if (report) *report = cleaned;
   return surface;
@@ -798,6 +969,13 @@ CleanReport clean_surface(SurfaceInput& surface) {
 
   std::vector<std::size_t> usable;
   for (std::size_t i = 0; i < count; ++i) {
+    for (int c = 0; c < 3; ++c)
+      if (std::isinf(points[i][c]) || std::abs(points[i][c]) > kMaxCoordinate) {
+        std::ostringstream problem;
+        problem << "point " << i << ": coordinate " << points[i][c]
+                << " out of range (must be finite and at most 1e150 in magnitude)";
+        throw InvalidInput(problem.str());
+      }
     const bool finite = points[i].allFinite() &&
                         (!with_normals ||
                          (surface.normals[i].allFinite() && surface.normals[i].stableNorm() > 0.0));

@@ -49,6 +49,20 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
   out += '\n';
 }
 
+// Creates a new empty file beside `path` under a random name (O_EXCL, so no one else uses it;
+// mode 0666 lets umask decide); returns its descriptor, or -1 with errno set.
+int create_temporary(const std::string& path, std::string& temporary) {
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
+    temporary = path + suffix;
+    const int descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (descriptor >= 0 || errno != EEXIST) return descriptor;
+  }
+  return -1;  // errno is EEXIST
+}
+
 }  // namespace
 
 void check_output(const std::string& path) {
@@ -57,6 +71,16 @@ void check_output(const std::string& path) {
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   if (!folder.empty() && !std::filesystem::is_directory(folder, error))
     fail(path, "cannot write: folder " + quote(folder.string()) + " does not exist");
+  // Only creating a file tells for sure: access(W_OK) passes for root and misses some mounts.
+  std::string temporary;
+  const int descriptor = create_temporary(path, temporary);
+  if (descriptor < 0) {
+    const std::string reason = std::strerror(errno);
+    fail(path, "cannot write in folder " + quote(folder.empty() ? "." : folder.string()) + " (" +
+                   reason + ")");
+  }
+  ::close(descriptor);
+  ::unlink(temporary.c_str());
 }
 
 void check_medial_mesh_output(const std::string& path) {
@@ -71,18 +95,9 @@ void write_file_atomically(const std::string& path, const std::string& contents)
   const auto failure = [&](const std::string& reason) {
     fail(path, "cannot write (" + reason + ")");
   };
-  // O_EXCL on a random name gives a temporary no one else uses; mode 0666 lets umask decide.
-  std::random_device entropy;
   std::string temporary;
-  int descriptor = -1;
-  for (int attempt = 0; attempt < 100 && descriptor < 0; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
-    temporary = path + suffix;
-    descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (descriptor < 0 && errno != EEXIST) failure(std::strerror(errno));
-  }
-  if (descriptor < 0) failure("no free temporary name");
+  const int descriptor = create_temporary(path, temporary);
+  if (descriptor < 0) failure(std::strerror(errno));
 
   std::string problem;
   for (std::size_t written = 0; written < contents.size() && problem.empty();) {

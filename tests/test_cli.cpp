@@ -145,6 +145,27 @@ TEST_F(Cli, BadInputFilesGiveOneLineErrorsAndNoOutput) {
   EXPECT_EQ(file_count(), files);
 }
 
+// PCL's reader crashed on these (exit 139) or allocated gigabytes (tests/corpus).
+TEST_F(Cli, MalformedPcdAndSizeBombsAreRunErrors) {
+  write("x.pcd", "x");
+  const std::string corpus = std::string(VMAS_SOURCE_DIR) + "/tests/corpus/";
+  for (const std::string input : {path("x.pcd"), corpus + "pcd_points_bomb_binary.pcd",
+                                  corpus + "pcd_points_bomb_compressed.pcd"}) {
+    const Result r = run("skeletonize " + input + " --spheres 10 -o " + path("out.ply"));
+    EXPECT_EQ(r.exit_code, 1) << input;
+    expect_one_line_error(r, input);
+  }
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+}
+
+TEST_F(Cli, UnwritableOutputFolderFailsBeforeReading) {
+  write_surface(path("sphere.off"), test::icosphere(Vec3::Zero(), 1.0, 2));
+  const Result r = run("skeletonize " + path("sphere.off") + " -n 3 -o /proc/vmas_out.ply");
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "/proc/vmas_out.ply");
+  EXPECT_TRUE(r.out.empty()) << r.out;  // nothing read or computed
+}
+
 TEST_F(Cli, TooFewPointsForTheSphereCountIsAnError) {
   write("tiny.xyz",
         "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n0 0 1 0 0 1\n"

@@ -409,6 +409,48 @@ TEST_F(IoPcd, XyzOnlyAndTruncatedBinary) {
   expect_io_error([&] { read_surface(truncated); }, truncated, "PCD");
 }
 
+// binary_compressed: LZF data unpacking to one block per field ("_" padding fields left out).
+TEST_F(IoPcd, BinaryCompressedUnpacksFieldBlocks) {
+  const std::string header =
+      "VERSION 0.7\nFIELDS x _ y z normal_x normal_y normal_z\nSIZE 4 1 4 8 4 4 4\n"
+      "TYPE F U F F F F F\nCOUNT 1 3 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n"
+      "DATA binary_compressed\n";
+  std::string blocks;
+  const auto add = [&](auto first, auto second) {
+    blocks.append(reinterpret_cast<const char*>(&first), sizeof first);
+    blocks.append(reinterpret_cast<const char*>(&second), sizeof second);
+  };
+  add(1.0f, 2.0f);   // x
+  add(3.0f, 4.0f);   // y
+  add(-0.5, 0.25);   // z (double)
+  add(0.0f, 0.0f);   // normal_x
+  add(0.0f, 0.0f);   // normal_y
+  add(1.0f, -2.0f);  // normal_z
+  ASSERT_EQ(blocks.size(), 56u);
+  // LZF: a literal run of n <= 32 bytes is the byte n - 1, then the bytes.
+  std::string lzf = std::string(1, static_cast<char>(31)) + blocks.substr(0, 32) +
+                    std::string(1, static_cast<char>(23)) + blocks.substr(32);
+  const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(lzf.size()), 56};
+  const std::string body = std::string(reinterpret_cast<const char*>(sizes), 8) + lzf;
+  const SurfaceInput cloud = read_surface(write("c.pcd", header + body));
+  ASSERT_EQ(cloud.points.size(), 2u);
+  EXPECT_EQ(cloud.points[0], Vec3(1, 3, -0.5));
+  EXPECT_EQ(cloud.points[1], Vec3(2, 4, 0.25));
+  EXPECT_EQ(cloud.normals[1], Vec3(0, 0, -1));
+
+  const std::string shorter = write("s.pcd", header + body.substr(0, body.size() - 1));
+  expect_io_error([&] { read_surface(shorter); }, shorter, "truncated");
+}
+
+TEST_F(IoPcd, AsciiFloatFieldsRoundLikeBinary) {
+  const SurfaceInput cloud = read_surface(
+      write("a.pcd",
+            "# comment\nVERSION .7\nFIELDS x y z rgb\nSIZE 4 4 8 4\nTYPE F F F U\nWIDTH 1\n"
+            "HEIGHT 1\nPOINTS 1\nDATA ascii\n0.1 0.2 0.3 4294967295\n"));
+  ASSERT_EQ(cloud.points.size(), 1u);
+  EXPECT_EQ(cloud.points[0], Vec3(static_cast<float>(0.1), static_cast<float>(0.2), 0.3));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Cleaning
 
@@ -432,6 +474,23 @@ TEST(IoClean, CountsOnCraftedMesh) {
   EXPECT_EQ(mesh.points, points);
   const std::vector<std::array<int, 3>> faces = {{0, 1, 2}, {0, 1, 3}};
   EXPECT_EQ(mesh.faces, faces);
+}
+
+TEST(IoClean, RejectsInfiniteAndOverflowingCoordinates) {
+  for (const double bad : {std::numeric_limits<double>::infinity(), -2e150}) {
+    SurfaceInput cloud;
+    cloud.points = {Vec3(0, 0, 0), Vec3(1, bad, 0)};
+    try {
+      clean_surface(cloud);
+      ADD_FAILURE() << "no InvalidInput for " << bad;
+    } catch (const InvalidInput& error) {
+      EXPECT_NE(std::string(error.what()).find("point 1: coordinate"), std::string::npos)
+          << error.what();
+    }
+  }
+  SurfaceInput edge;
+  edge.points = {Vec3(0, 0, 0), Vec3(1e150, -1e150, 1)};
+  EXPECT_EQ(clean_surface(edge).total(), 0u);
 }
 
 TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndDropsZeroNormals) {
@@ -494,6 +553,12 @@ TEST_F(IoErrors, AtomicWritesLeaveNothingBehind) {
                   "cannot write");
   EXPECT_EQ(entries(), std::vector<std::string>{"out.ply"});
   EXPECT_TRUE(fs::is_empty(path("out.ply")));
+
+  // A folder that exists but takes no new file (even for root).
+  const std::string unwritable = "/proc/vmas_test_output.ply";
+  expect_io_error([&] { check_medial_mesh_output(unwritable); }, unwritable,
+                  "cannot write in folder '/proc'");
+  check_output(path("fine.txt"));  // leaves nothing behind
 
   const std::string nowhere = path("no/such/dir/m.ma");
   expect_io_error([&] { write_medial_mesh(nowhere, MedialMesh{}); }, nowhere, "cannot write");

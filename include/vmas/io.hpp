@@ -12,7 +12,7 @@ namespace vmas {
 
 // What read_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
 struct CleanReport {
-  std::size_t non_finite_points = 0;  // points with a NaN/Inf coordinate or normal (dropped)
+  std::size_t non_finite_points = 0;  // points with a NaN coordinate or a NaN/Inf normal (dropped)
   std::size_t duplicate_points = 0;   // points at the same coordinates as an earlier one (merged)
   std::size_t degenerate_faces = 0;   // faces with a repeated or dropped vertex, or zero area
   std::size_t unused_points = 0;      // mesh vertices referenced by no face (dropped)
@@ -29,14 +29,18 @@ struct CleanReport {
 // the missing ones are NaN, so cleaning drops those points; a NOFF file giving no normal at all
 // loads as a plain cloud. OBJ `vn` lines are used only for clouds with one `vn` per `v`.
 // Then cleans it (see clean_surface) and fills `report` if given. Throws IoError when the file is
-// missing, unreadable, of unknown format, truncated or malformed, or holds no usable point.
+// missing, unreadable, of unknown format, truncated or malformed, holds a coordinate that
+// clean_surface rejects, or holds no usable point. Memory stays proportional to the file's size
+// whatever its header announces.
 SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
 
-// Removes non-finite points, merges exact duplicates (remapping faces), drops degenerate faces
-// and, for meshes, unreferenced vertices. Normals are renormalised; zero normals count as
-// non-finite, so such points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are
-// degenerate. Kept points stay in input order, each duplicate group keeping its first point.
-// Throws InvalidInput if `normals` is neither empty nor one per point.
+// Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,
+// merges exact duplicates (remapping faces), drops degenerate faces and, for meshes,
+// unreferenced vertices. Normals are renormalised; zero normals count as non-finite, so such
+// points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
+// points stay in input order, each duplicate group keeping its first point.
+// Throws InvalidInput if `normals` is neither empty nor one per point, or if a coordinate is
+// infinite or beyond +-1e150 (squared distances would overflow).
 CleanReport clean_surface(SurfaceInput& surface);
 
 // Writes a mesh or cloud: .ply (binary little-endian, float coordinates, with normals if
@@ -45,7 +49,8 @@ CleanReport clean_surface(SurfaceInput& surface);
 void write_surface(const std::string& path, const SurfaceInput& surface);
 
 // Medial mesh: .ply (vertex x y z radius, edge vertex1 vertex2, face vertex_indices) or .ma
-// (Q-MAT format: "nv ne nf", then v/e/f lines, 0-based).
+// (Q-MAT format: "nv ne nf", then v/e/f lines, 0-based). Spheres with a non-finite value or one
+// beyond +-1e150 are an IoError.
 MedialMesh read_medial_mesh(const std::string& path);
 void write_medial_mesh(const std::string& path, const MedialMesh& mesh);
 
