@@ -9,6 +9,7 @@ Shared by scripts/bench and scripts/render:
   read_medial(path)         -> either of the two by extension
   read_errors(path)         -> per-vertex error values written by `vmas eval --errors`
   write_xyz(path, points, normals=None)
+  write_off(path, points, faces)
   sample_surface(points, faces, count, seed) -> (points, normals), area-weighted
   medial_components(medial) -> number of connected components of the sphere graph
   validate_medial(medial, expected_spheres) -> list of problems (empty when valid)
@@ -73,6 +74,13 @@ def read_xyz(path):
 def write_xyz(path, points, normals=None):
     data = points if normals is None else np.hstack([points, normals])
     np.savetxt(path, data, fmt="%.9g")
+
+
+def write_off(path, points, faces):
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(f"OFF\n{len(points)} {len(faces)} 0\n")
+        np.savetxt(f, points, fmt="%.9g")
+        np.savetxt(f, np.column_stack([np.full(len(faces), 3), faces]), fmt="%d")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -258,7 +266,8 @@ def bbox_diagonal(points):
 
 
 def sample_surface(points, faces, count, seed=1):
-    """Area-weighted uniform random points on a triangle mesh, with the faces' unit normals."""
+    """Area-weighted uniform random points on a triangle mesh, with the faces' unit normals.
+    seed: anything numpy.random.default_rng accepts (an int, a list of ints, a Generator)."""
     rng = np.random.default_rng(seed)
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
     cross = np.cross(b - a, c - a)
