@@ -5,13 +5,14 @@
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
+#include <iomanip>
 #include <iostream>
 #include <string>
 
 #include "commands.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
-#include "vmas/normals.hpp"
+#include "vmas/prepare.hpp"
 #include "vmas/skeletonizer.hpp"
 
 #ifdef _OPENMP
@@ -24,6 +25,7 @@ namespace vmas::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -47,15 +49,49 @@ const char* kDescription =
     "\n"
     "options";
 
+// "auto", "off", or a deviation as a fraction of the diagonal ("0.005") or in percent ("0.5%").
+PrepareOptions::Denoise parse_denoise(const std::string& text, double& sigma) {
+  if (text == "auto") return PrepareOptions::Denoise::Auto;
+  if (text == "off") return PrepareOptions::Denoise::Off;
+  const bool percent = !text.empty() && text.back() == '%';
+  const std::string number = percent ? text.substr(0, text.size() - 1) : text;
+  std::size_t used = 0;
+  try {
+    sigma = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != number.size())
+    throw InvalidOption("--denoise must be auto, off or a noise deviation such as 0.005 or 0.5% "
+                        "(got '" + text + "')");
+  if (percent) sigma /= 100.0;
+  return PrepareOptions::Denoise::Fixed;
+}
+
+std::string percent_of(double length, double diagonal) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2g %%", diagonal > 0.0 ? 100.0 * length / diagonal : 0.0);
+  return text;
+}
+
+// Input index of every prepared point's label; -1 for points dropped on the way.
+std::vector<int> labels_of_input(const std::vector<int>& labels, const std::vector<int>& kept,
+                                 std::size_t input_size) {
+  std::vector<int> result(input_size, -1);
+  for (std::size_t i = 0; i < kept.size(); ++i) result[kept[i]] = labels[i];
+  return result;
+}
+
 // Reads, skeletonizes and writes, printing the summary unless `quiet`.
 void run_skeletonize(const std::string& input, const std::string& output,
-                     const std::string& labels_path, const SkeletonizerOptions& options,
-                     const ShapeOptions& shape_options, const NormalOptions& normal_options,
-                     int smoothing, bool estimate, bool reorient, bool quiet) {
+                     const std::string& labels_path, SkeletonizerOptions options,
+                     const ShapeOptions& shape_options, const PrepareOptions& prepare_options,
+                     bool quiet) {
   const bool show_progress = !quiet && isatty(fileno(stderr));
   const auto start = Clock::now();
   CleanReport report;
   SurfaceInput surface = read_surface(input, &report);
+  const std::size_t read_points = surface.points.size();
   const double read_time = seconds_since(start);
   if (!quiet) {
     std::cout << "input " << input << ": " << surface.points.size() << " points, "
@@ -67,36 +103,37 @@ void run_skeletonize(const std::string& input, const std::string& output,
                 << report.duplicate_points << " duplicates, " << report.degenerate_faces
                 << " degenerate faces, " << report.unused_points << " unused vertices\n";
   }
-  double normals_time = 0.0;  // smoothing included
-  if (!surface.is_mesh() && smoothing > 0) {
-    const auto smoothing_start = Clock::now();
-    smooth_points(surface.points, normal_options.k, smoothing);
-    normals_time = seconds_since(smoothing_start);
-    if (!quiet)
-      std::cout << "smoothed: " << smoothing << " plane projections (k=" << normal_options.k
-                << ")\n";
+  const PrepareReport prepared = prepare_surface(surface, prepare_options);
+  options.shrinking_ball.tolerance =
+      ball_tolerance_for(prepared, options.shrinking_ball.tolerance);
+  if (!quiet) {
+    if (prepared.outliers > 0)
+      std::cout << "outliers: removed " << prepared.outliers << " points\n";
+    if (prepare_options.denoise != PrepareOptions::Denoise::Off)
+      std::cout << "noise: ~" << percent_of(prepared.noise.sigma, prepared.diagonal)
+                << " of the diagonal (point spacing "
+                << percent_of(prepared.noise.spacing, prepared.diagonal) << ")"
+                << (prepared.mls_radius > 0.0
+                        ? "; smoothed (MLS radius " +
+                              percent_of(prepared.mls_radius, prepared.diagonal) + ", left ~" +
+                              percent_of(prepared.residual_noise, prepared.diagonal) + ")"
+                        : std::string("; not smoothed"))
+                << "\n";
+    if (prepared.faces_dropped)
+      std::cout << "faces: dropped (the smoothed vertices go on as a point cloud)\n";
+    if (prepared.normals_estimated)
+      std::cout << "normals: estimated and oriented (k=" << prepare_options.normals.k << ")\n";
+    else if (prepared.normals_oriented)
+      std::cout << "normals: given ones re-oriented (k=" << prepare_options.normals.k << ")\n";
   }
-  if (!surface.is_mesh() && (!surface.has_normals() || estimate)) {
-    const auto normals_start = Clock::now();
-    surface.normals = estimate_normals(surface.points, normal_options);
-    normals_time += seconds_since(normals_start);
-    if (!quiet)
-      std::cout << "normals: estimated and oriented (k=" << normal_options.k << ", " << normals_time
-                << " s)\n";
-  } else if (!surface.is_mesh() && reorient) {
-    const auto normals_start = Clock::now();
-    orient_normals(surface.points, surface.normals, normal_options.k);
-    normals_time = seconds_since(normals_start);
-    if (!quiet)
-      std::cout << "normals: given ones re-oriented (k=" << normal_options.k << ", " << normals_time
-                << " s)\n";
-  }
+  const double prepare_time = prepared.seconds;
   if (!quiet)
     std::cout << "parameters: "
               << (options.target_spheres > 0 ? "spheres=" + std::to_string(options.target_spheres)
                                              : "error=" + std::to_string(options.error_threshold))
               << " lambda=" << options.lambda << " k=" << shape_options.k
               << " projection=" << (options.project ? "on" : "off")
+              << " ball-tolerance=" << options.shrinking_ball.tolerance
 #ifdef _OPENMP
               << " threads=" << omp_get_max_threads()
 #endif
@@ -111,23 +148,25 @@ void run_skeletonize(const std::string& input, const std::string& output,
                    p.error);
   });
   if (show_progress) std::fprintf(stderr, "\n");
-  // A ball that never shrank found no sample on either side: the surface is open there (a
-  // single-view scan, a hole), and such a sphere is no medial ball.
-  const double unbounded =
-      0.999 * options.shrinking_ball.initial_radius * skeletonizer.shape().diagonal;
-  const auto open_spheres =
-      std::count_if(skeletonizer.spheres().begin(), skeletonizer.spheres().end(),
-                    [&](const Sphere& s) { return s.radius >= unbounded; });
-  if (open_spheres > 0)
-    std::cerr << "vmas skeletonize: warning: " << open_spheres
-              << " spheres found no surface on either side (open or single-view scan?); their "
-                 "radius is the search limit\n";
+  // A single-view scan, an open mesh or faces that disagree in orientation have no inside, and
+  // the skeleton of such data is no medial axis.
+  const double enclosure = skeletonizer.projector().enclosure();
+  if (!quiet)
+    std::cout << "enclosure: winding number " << std::setprecision(2) << enclosure
+              << std::setprecision(6) << " inside (1: closed surface)\n";
+  if (enclosure < MedialProjector::kEnclosed)
+    std::cerr << "vmas skeletonize: warning: " << input
+              << " does not enclose a volume (winding number " << std::setprecision(2)
+              << enclosure << std::setprecision(6) << " inside, 1 for a closed surface): open or "
+              << "single-view scan, holes, or inconsistently oriented faces; the skeleton is "
+                 "only an approximation there\n";
   const auto connectivity_start = Clock::now();
   const MedialMesh mesh = skeletonizer.medial_mesh();
   const double connectivity_time = seconds_since(connectivity_start);
   const auto write_start = Clock::now();
   write_medial_mesh(output, mesh);
-  if (!labels_path.empty()) write_labels(labels_path, skeletonizer.labels());
+  if (!labels_path.empty())
+    write_labels(labels_path, labels_of_input(skeletonizer.labels(), prepared.kept, read_points));
   const double write_time = seconds_since(write_start);
 
   if (!quiet) {
@@ -140,7 +179,7 @@ void run_skeletonize(const std::string& input, const std::string& output,
                                              : " (error still changing: stopped after settling)")
               << ", total error " << summary.error << "\n"
               << "time (s): total " << seconds_since(start) << " = read " << read_time
-              << ", normals " << normals_time << ", shape " << shape_time << ", partition "
+              << ", prepare " << prepare_time << ", shape " << shape_time << ", partition "
               << t.partition << ", update " << t.update << ", projection " << t.projection
               << ", split " << t.split << ", connectivity " << connectivity_time << ", write "
               << write_time << "\n"
@@ -153,13 +192,12 @@ void run_skeletonize(const std::string& input, const std::string& output,
 int skeletonize_command(int argc, const char* const* argv) {
   const SkeletonizerOptions defaults;
   const ShapeOptions shape_defaults;
-  const NormalOptions normal_defaults;
-  std::string input, output, labels_path;
+  const PrepareOptions prepare_defaults;
+  std::string input, output, labels_path, denoise = "auto";
   SkeletonizerOptions options;
   ShapeOptions shape_options;
-  NormalOptions normal_options;
+  PrepareOptions prepare_options;
   int threads = 0;
-  int smoothing = 0;
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
@@ -180,12 +218,13 @@ int skeletonize_command(int argc, const char* const* argv) {
        "refits with --final-lambda after the optimisation (0: none)")
       ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
-      ("normal-k", po::value(&normal_options.k)->default_value(normal_defaults.k),
+      ("normal-k", po::value(&prepare_options.normals.k)->default_value(prepare_defaults.normals.k),
        "neighbours used to estimate and orient normals of clouds that have none")
       ("estimate-normals", "estimate normals even if the file has them")
-      ("smooth", po::value(&smoothing)->default_value(0),
-       "clouds: first move every point onto the plane of its normal-k neighbours, this many "
-       "times (denoises scans; 1-2 for noise around 1 % of the diagonal)")
+      ("denoise", po::value(&denoise)->default_value("auto"),
+       "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
+       "points (moving least squares) before the run; off: take the points as they are; or the "
+       "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
       ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
        "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("labels", po::value(&labels_path), "also write the cluster of every input point (text)")
@@ -237,19 +276,20 @@ int skeletonize_command(int argc, const char* const* argv) {
   if (vm.count("error") && !(options.error_threshold > 0.0))
     throw InvalidOption("--error must be positive");
   options.project = !vm.count("no-projection");
-  if (smoothing < 0 || smoothing > 100) throw InvalidOption("--smooth must be between 0 and 100");
+  prepare_options.denoise = parse_denoise(denoise, prepare_options.noise_sigma);
+  prepare_options.estimate_normals = vm.count("estimate-normals") > 0;
+  prepare_options.orient_normals = vm.count("orient-normals") > 0;
   set_threads(threads);
   options.validate();
   shape_options.validate();
-  normal_options.validate();
+  prepare_options.validate();
   check_output_option(output, check_medial_mesh_output);
   if (!labels_path.empty()) check_output_option(labels_path, check_output);
   const bool quiet = vm.count("quiet") > 0;
 
   // The stages do not know the file name; errors about the data should carry it.
   try {
-    run_skeletonize(input, output, labels_path, options, shape_options, normal_options, smoothing,
-                    vm.count("estimate-normals") > 0, vm.count("orient-normals") > 0, quiet);
+    run_skeletonize(input, output, labels_path, options, shape_options, prepare_options, quiet);
   } catch (const InvalidInput& e) {
     throw InvalidInput(input + ": " + e.what());
   }

@@ -1,12 +1,30 @@
 #include "vmas/projection.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "vmas/error.hpp"
 
 namespace vmas {
 
+namespace {
+// How far past the data's bounding box a ball may reach, in diagonals.
+constexpr double kBoxMargin = 0.01;
+// Probe balls of the enclosure measure, and those narrower than this many sample spacings,
+// which measure no enclosed volume.
+constexpr int kEnclosureProbes = 200;
+constexpr double kMinProbeRadiusInSpacings = 0.5;
+// A block of vertices this many of its radii away from a point counts as one dipole (relative
+// error of the winding number ~ 1/kFarInRadii²).
+constexpr double kFarInRadii = 3.0;
+// A ball whose centre has a smaller winding number lies outside the shape.
+constexpr double kInside = 0.5;
+// Smallest radius of a ball, relative to the diagonal.
+constexpr double kMinRadius = 1e-6;
+}  // namespace
 void ShrinkingBallOptions::validate() const {
   if (max_iterations < 1 || max_iterations > 1000)
     throw InvalidOption("shrinking-ball iterations must be between 1 and 1000 (got " +
@@ -28,6 +46,88 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
       tree_(shape.points),
       cos_denoise_(std::cos(options.denoise_angle_deg * M_PI / 180.0)) {
   options_.validate();
+  box_low_ = box_high_ = shape.points.front();
+  for (const Vec3& p : shape.points) {
+    box_low_ = box_low_.cwiseMin(p);
+    box_high_ = box_high_.cwiseMax(p);
+  }
+  const Vec3 margin = Vec3::Constant(kBoxMargin * shape.diagonal);
+  box_low_ -= margin;
+  box_high_ += margin;
+  const VertexBlocks& blocks = shape.blocks;
+  dipoles_.resize(blocks.size());
+  for (int b = 0; b < blocks.size(); ++b) {
+    BlockDipole& block = dipoles_[b];
+    block.center = block.moment = Vec3::Zero();
+    double area = 0.0;
+    for (int k = blocks.offsets[b]; k < blocks.offsets[b + 1]; ++k) {
+      const int v = blocks.vertices[k];
+      block.center += shape.area[v] * shape.points[v];
+      block.moment += shape.area[v] * shape.normals[v];
+      area += shape.area[v];
+    }
+    block.center = area > 0.0 ? Vec3(block.center / area) : blocks.centers[b];
+    block.radius = 0.0;
+    for (int k = blocks.offsets[b]; k < blocks.offsets[b + 1]; ++k)
+      block.radius =
+          std::max(block.radius, (shape.points[blocks.vertices[k]] - block.center).norm());
+  }
+  // Inside and outside mean something only for data that encloses a volume.
+  enclosure_ = measure_enclosure();
+  reject_outside_ = enclosure_ >= kEnclosed;
+}
+
+double MedialProjector::radius_limit(const Vec3& p, const Vec3& inward) const {
+  // Per axis, centre ± radius within [low, high]: p + r·d + r ≤ high and p + r·d − r ≥ low.
+  double limit = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = inward[axis];
+    if (1.0 + d > 0.0) limit = std::min(limit, (box_high_[axis] - p[axis]) / (1.0 + d));
+    if (1.0 - d > 0.0) limit = std::min(limit, (p[axis] - box_low_[axis]) / (1.0 - d));
+  }
+  return std::max(limit, 0.0);
+}
+
+double MedialProjector::winding_number(const Vec3& q) const {
+  const VertexBlocks& blocks = shape_.blocks;
+  double sum = 0.0;
+  for (int b = 0; b < blocks.size(); ++b) {
+    const BlockDipole& block = dipoles_[b];
+    const Vec3 offset = block.center - q;
+    const double distance = offset.norm();
+    if (distance > kFarInRadii * block.radius) {
+      sum += block.moment.dot(offset) / (distance * distance * distance);
+      continue;
+    }
+    for (int k = blocks.offsets[b]; k < blocks.offsets[b + 1]; ++k) {
+      const int v = blocks.vertices[k];
+      const Vec3 to_vertex = shape_.points[v] - q;
+      const double d = to_vertex.norm();
+      if (d > 0.0) sum += shape_.area[v] * shape_.normals[v].dot(to_vertex) / (d * d * d);
+    }
+  }
+  return sum / (4.0 * M_PI);
+}
+
+double MedialProjector::measure_enclosure() const {
+  const int count = shape_.size();
+  const int stride = std::max(1, count / kEnclosureProbes);
+  std::vector<int> probes;
+  for (int vertex = 0; vertex < count; vertex += stride) probes.push_back(vertex);
+  std::vector<double> winding(probes.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < probes.size(); ++c) {
+    const int vertex = probes[c];
+    const Sphere ball = ball_at(vertex);
+    // Next to the samples the sum of dipoles is no integral any more; a ball no wider than the
+    // sample spacing finds no volume either (a flat or single-layer piece), so it counts as 0.
+    if (ball.radius > kMinProbeRadiusInSpacings * std::sqrt(shape_.area[vertex]))
+      winding[c] = winding_number(ball.center);
+  }
+  if (winding.empty()) return 0.0;
+  const auto middle = winding.begin() + winding.size() / 2;
+  std::nth_element(winding.begin(), middle, winding.end());
+  return *middle;
 }
 
 Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
@@ -40,17 +140,26 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
   int reverse_contact = -1;
   const Sphere reverse = shrink_along(vertex, -inward, reverse_contact);
   if (seen_from_inside(reverse, reverse_contact)) return reverse;
+  // Both balls are outside a closed shape (noise flipped the normals around a thin part): a
+  // ball as small as the tolerance, just inside the surface, is not right either, but it does
+  // not stick out.
+  if (reject_outside_) {
+    const double radius = std::max(options_.tolerance, kMinRadius) * shape_.diagonal;
+    return Sphere{shape_.points[vertex] - radius * shape_.normals[vertex], radius};
+  }
   return reverse.radius < ball.radius ? reverse : ball;
 }
 
 bool MedialProjector::seen_from_inside(const Sphere& ball, int contact) const {
-  return contact >= 0 && shape_.normals[contact].dot(shape_.points[contact] - ball.center) > 0.0;
+  return contact >= 0 && shape_.normals[contact].dot(shape_.points[contact] - ball.center) > 0.0 &&
+         (!reject_outside_ || winding_number(ball.center) > kInside);
 }
 
 Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, int& contact) const {
   const Vec3& p = shape_.points[vertex];
   const double delta = options_.tolerance * shape_.diagonal;
-  double radius = options_.initial_radius * shape_.diagonal;
+  double radius =
+      std::min(options_.initial_radius * shape_.diagonal, radius_limit(p, inward));
   Vec3 center = p + radius * inward;
   contact = -1;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {

@@ -202,5 +202,57 @@ TEST_F(Cli, OpenSurfaceGetsAWarning) {
   EXPECT_NE(r.err.find("open"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, ClosedSampledSurfaceGetsNoWarning) {
+  const test::Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 3000, 31);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  write_surface(path("sphere.xyz"), cloud);
+  const Result r = run("skeletonize " + path("sphere.xyz") + " --spheres 3 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("not smoothed"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, HalfSphereScanIsNotClosed) {
+  // A single view of a ball: its near half only.
+  SurfaceInput cloud;
+  for (const Vec3& p : test::sample_sphere(Vec3::Zero(), 1.0, 4000, 32).points)
+    if (p.z() > 0.0) cloud.points.push_back(p);
+  write_surface(path("half.xyz"), cloud);
+  const Result r = run("skeletonize " + path("half.xyz") + " --spheres 3 -o " + path("out.ply"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("does not enclose a volume"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, NoisyCloudIsMeasuredAndSmoothed) {
+  const test::Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 5000, 33);
+  SurfaceInput cloud;
+  cloud.points = test::with_noise(s.points, 0.02, 34);
+  write_surface(path("noisy.xyz"), cloud);
+  Result r = run("skeletonize " + path("noisy.xyz") + " --spheres 2 -o " + path("out.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("noise: ~"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("smoothed (MLS radius"), std::string::npos) << r.out;
+  r = run("skeletonize " + path("noisy.xyz") + " --spheres 2 -o " + path("out.ply") +
+          " --denoise off");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("noise: ~"), std::string::npos) << r.out;
+  r = run("skeletonize " + path("noisy.xyz") + " --spheres 2 -o " + path("out.ply") +
+          " --denoise 0.5%");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("smoothed (MLS radius"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, BadDenoiseValueIsAUsageError) {
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  for (const char* value : {"sometimes", "0.5%%", "-1", "0.7"}) {
+    const Result r = run("skeletonize " + path("capsule.off") + " --spheres 2 -o " +
+                         path("out.ply") + " --denoise " + value);
+    EXPECT_EQ(r.exit_code, 2) << value;
+    expect_one_line_error(r, "denoise");
+    EXPECT_EQ(file_count(), 1u) << value;  // the input only
+  }
+}
+
 }  // namespace
 }  // namespace vmas

@@ -11,78 +11,16 @@
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 #include "vmas/normals.hpp"
+#include "test_shapes.hpp"
 
 namespace vmas {
 namespace {
 
-// Points and exact outward normals of a shape built in code.
-struct Sample {
-  std::vector<Vec3> points;
-  std::vector<Vec3> normals;
-};
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> gauss;
-  return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
-}
-
-Sample sphere(const Vec3& center, double radius, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  Sample s;
-  for (int i = 0; i < count; ++i) {
-    const Vec3 u = random_unit(rng);
-    s.points.push_back(center + radius * u);
-    s.normals.push_back(u);
-  }
-  return s;
-}
-
-// Axis-aligned box [0, size], faces sampled in proportion to their area.
-Sample box(const Vec3& size, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const double areas[3] = {size.y() * size.z(), size.x() * size.z(), size.x() * size.y()};
-  std::discrete_distribution<int> pick_axis(areas, areas + 3);
-  Sample s;
-  for (int i = 0; i < count; ++i) {
-    const int axis = pick_axis(rng);
-    const bool high = uniform(rng) < 0.5;
-    Vec3 p(uniform(rng) * size.x(), uniform(rng) * size.y(), uniform(rng) * size.z());
-    p[axis] = high ? size[axis] : 0.0;
-    Vec3 n = Vec3::Zero();
-    n[axis] = high ? 1.0 : -1.0;
-    s.points.push_back(p);
-    s.normals.push_back(n);
-  }
-  return s;
-}
-
-// Torus around the z axis, sampled uniformly by area (rejection on the tube angle).
-Sample torus(double major, double minor, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), uniform(0.0, 1.0);
-  Sample s;
-  while (static_cast<int>(s.points.size()) < count) {
-    const double u = angle(rng), v = angle(rng);
-    if (uniform(rng) * (major + minor) > major + minor * std::cos(v)) continue;
-    const Vec3 radial(std::cos(u), std::sin(u), 0.0);
-    const Vec3 n = std::cos(v) * radial + std::sin(v) * Vec3::UnitZ();
-    s.points.push_back(major * radial + minor * n);
-    s.normals.push_back(n);
-  }
-  return s;
-}
-
-Sample ellipsoid(const Vec3& radii, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  Sample s;
-  for (int i = 0; i < count; ++i) {
-    const Vec3 p = random_unit(rng).cwiseProduct(radii);
-    s.points.push_back(p);
-    s.normals.push_back(p.cwiseQuotient(radii.cwiseProduct(radii)).normalized());
-  }
-  return s;
-}
+using test::Sample;
+using test::sample_box;
+using test::sample_ellipsoid;
+using test::sample_sphere;
+using test::sample_torus;
 
 int count_if_pairs(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
                    const std::function<bool(const Vec3&, const Vec3&)>& predicate) {
@@ -111,7 +49,7 @@ void expect_unit_and_finite(const std::vector<Vec3>& normals) {
 }
 
 TEST(NormalsEstimate, SphereIsRadialAndOutward) {
-  const Sample s = sphere(Vec3(2.0, -1.0, 0.5), 1.5, 3000, 1);
+  const Sample s = sample_sphere(Vec3(2.0, -1.0, 0.5), 1.5, 3000, 1);
   const auto normals = estimate_normals(s.points, {});
   ASSERT_EQ(normals.size(), s.points.size());
   expect_unit_and_finite(normals);
@@ -121,7 +59,7 @@ TEST(NormalsEstimate, SphereIsRadialAndOutward) {
 
 TEST(NormalsEstimate, BoxFacesPointOutward) {
   const Vec3 size(2.0, 1.0, 0.5);
-  const Sample s = box(size, 6000, 2);
+  const Sample s = sample_box(size, 6000, 2);
   const auto normals = estimate_normals(s.points, {});
   expect_unit_and_finite(normals);
   const Vec3 center = 0.5 * size;
@@ -138,7 +76,7 @@ TEST(NormalsEstimate, BoxFacesPointOutward) {
 }
 
 TEST(NormalsEstimate, TorusPointsAwayFromTheTubeAxis) {
-  const Sample s = torus(1.0, 0.25, 6000, 3);
+  const Sample s = sample_torus(1.0, 0.25, 6000, 3);
   const auto normals = estimate_normals(s.points, {});
   expect_unit_and_finite(normals);
   EXPECT_EQ(count_outward(normals, s.normals), 6000);
@@ -147,7 +85,7 @@ TEST(NormalsEstimate, TorusPointsAwayFromTheTubeAxis) {
 
 TEST(NormalsEstimate, ThinEllipsoidKeepsBothSidesOutward) {
   // Top and bottom are 0.16 apart at the centre and meet at a sharp rim.
-  const Sample s = ellipsoid(Vec3(1.0, 0.6, 0.08), 5000, 4);
+  const Sample s = sample_ellipsoid(Vec3(1.0, 0.6, 0.08), 5000, 4);
   const auto normals = estimate_normals(s.points, {});
   expect_unit_and_finite(normals);
   // The rim's radius of curvature (0.0064) is far below the sample spacing, so a few plane fits
@@ -164,7 +102,7 @@ TEST(NormalsEstimate, ThinEllipsoidKeepsBothSidesOutward) {
 TEST(NormalsEstimate, ThinPlateKeepsBothSidesOutward) {
   // 0.05 thick, about twice the sample spacing: k-NN neighbourhoods straddle the two faces.
   const Vec3 size(2.0, 1.0, 0.05);
-  const Sample s = box(size, 8000, 21);
+  const Sample s = sample_box(size, 8000, 21);
   const auto normals = estimate_normals(s.points, {});
   int right_line = 0;
   for (std::size_t i = 0; i < normals.size(); ++i) {
@@ -176,8 +114,8 @@ TEST(NormalsEstimate, ThinPlateKeepsBothSidesOutward) {
 }
 
 TEST(NormalsEstimate, TwoComponentsAreBothOutward) {
-  Sample s = sphere(Vec3::Zero(), 1.0, 2000, 5);
-  const Sample other = sphere(Vec3(5.0, 0.0, 0.0), 0.5, 1000, 6);
+  Sample s = sample_sphere(Vec3::Zero(), 1.0, 2000, 5);
+  const Sample other = sample_sphere(Vec3(5.0, 0.0, 0.0), 0.5, 1000, 6);
   s.points.insert(s.points.end(), other.points.begin(), other.points.end());
   s.normals.insert(s.normals.end(), other.normals.begin(), other.normals.end());
   const auto normals = estimate_normals(s.points, {});
@@ -185,7 +123,7 @@ TEST(NormalsEstimate, TwoComponentsAreBothOutward) {
 }
 
 TEST(NormalsEstimate, SameResultForAnyThreadCount) {
-  const Sample s = torus(1.0, 0.3, 4000, 7);
+  const Sample s = sample_torus(1.0, 0.3, 4000, 7);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   const auto serial = estimate_normals(s.points, {});
@@ -211,7 +149,7 @@ TEST(NormalsEstimate, RejectsBadInput) {
   options.k = 2;
   EXPECT_THROW(options.validate(), InvalidOption);
   options.k = 201;
-  EXPECT_THROW(estimate_normals(sphere(Vec3::Zero(), 1.0, 500, 8).points, options), InvalidOption);
+  EXPECT_THROW(estimate_normals(sample_sphere(Vec3::Zero(), 1.0, 500, 8).points, options), InvalidOption);
   try {
     options.k = 1;
     options.validate();
@@ -224,8 +162,8 @@ TEST(NormalsEstimate, RejectsBadInput) {
 }
 
 TEST(NormalsOrient, RandomFlipsComeBackOutward) {
-  for (const Sample& s : {sphere(Vec3(0.3, 0.0, 0.0), 1.0, 2000, 9), torus(1.0, 0.2, 5000, 10),
-                          box(Vec3(2.0, 1.0, 0.03), 8000, 11)}) {
+  for (const Sample& s : {sample_sphere(Vec3(0.3, 0.0, 0.0), 1.0, 2000, 9), sample_torus(1.0, 0.2, 5000, 10),
+                          sample_box(Vec3(2.0, 1.0, 0.03), 8000, 11)}) {
     std::mt19937 rng(12);
     std::bernoulli_distribution flip(0.5);
     std::vector<Vec3> normals = s.normals;
@@ -237,7 +175,7 @@ TEST(NormalsOrient, RandomFlipsComeBackOutward) {
 }
 
 TEST(NormalsOrient, MissingNormalsBecomeFinite) {
-  const Sample s = sphere(Vec3::Zero(), 1.0, 1000, 13);
+  const Sample s = sample_sphere(Vec3::Zero(), 1.0, 1000, 13);
   std::vector<Vec3> normals = s.normals;
   normals[0] = Vec3::Constant(std::nan(""));
   normals[1] = Vec3::Zero();
@@ -312,7 +250,7 @@ TEST(NormalsRealData, MergedBunnyIsConsistentAndOutward) {
 }
 
 TEST(NormalsSmooth, PullsNoisyPointsBackOntoTheSurface) {
-  Sample noisy = sphere(Vec3(1, 2, 3), 1.0, 4000, 11);
+  Sample noisy = sample_sphere(Vec3(1, 2, 3), 1.0, 4000, 11);
   std::mt19937 rng(12);
   std::normal_distribution<double> noise(0.0, 0.02);
   for (Vec3& p : noisy.points) p += Vec3(noise(rng), noise(rng), noise(rng));

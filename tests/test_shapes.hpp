@@ -2,6 +2,7 @@
 // Triangle meshes built in code for the tests: exact geometry, fixed seeds, known medial axes.
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 
 #include "vmas/types.hpp"
@@ -97,6 +98,113 @@ inline SurfaceInput capsule(double radius, double length, int rings, int sides) 
   for (int j = 0; j < sides; ++j)
     s.faces.push_back({top, id(ring_count - 1, j), id(ring_count - 1, j + 1)});
   return s;
+}
+
+// Random samples with their exact outward normals, of shapes built in code (fixed seeds).
+struct Sample {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;
+};
+
+inline Vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<double> gauss;
+  return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+}
+
+inline Sample sample_sphere(const Vec3& center, double radius, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 u = random_unit(rng);
+    s.points.push_back(center + radius * u);
+    s.normals.push_back(u);
+  }
+  return s;
+}
+
+// Axis-aligned box [0, size], faces sampled in proportion to their area.
+inline Sample sample_box(const Vec3& size, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double areas[3] = {size.y() * size.z(), size.x() * size.z(), size.x() * size.y()};
+  std::discrete_distribution<int> pick_axis(areas, areas + 3);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const int axis = pick_axis(rng);
+    const bool high = uniform(rng) < 0.5;
+    Vec3 p(uniform(rng) * size.x(), uniform(rng) * size.y(), uniform(rng) * size.z());
+    p[axis] = high ? size[axis] : 0.0;
+    Vec3 n = Vec3::Zero();
+    n[axis] = high ? 1.0 : -1.0;
+    s.points.push_back(p);
+    s.normals.push_back(n);
+  }
+  return s;
+}
+
+// Torus around the z axis, sampled uniformly by area (rejection on the tube angle).
+inline Sample sample_torus(double major, double minor, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), uniform(0.0, 1.0);
+  Sample s;
+  while (static_cast<int>(s.points.size()) < count) {
+    const double u = angle(rng), v = angle(rng);
+    if (uniform(rng) * (major + minor) > major + minor * std::cos(v)) continue;
+    const Vec3 radial(std::cos(u), std::sin(u), 0.0);
+    const Vec3 n = std::cos(v) * radial + std::sin(v) * Vec3::UnitZ();
+    s.points.push_back(major * radial + minor * n);
+    s.normals.push_back(n);
+  }
+  return s;
+}
+
+inline Sample sample_ellipsoid(const Vec3& radii, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 p = random_unit(rng).cwiseProduct(radii);
+    s.points.push_back(p);
+    s.normals.push_back(p.cwiseQuotient(radii.cwiseProduct(radii)).normalized());
+  }
+  return s;
+}
+
+// Capsule along the z axis (as `capsule`), sampled uniformly by area.
+inline Sample sample_capsule(double radius, double length, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double tube_area = 2.0 * M_PI * radius * length, caps_area = 4.0 * M_PI * radius * radius;
+  Sample s;
+  for (int i = 0; i < count; ++i) {
+    if (uniform(rng) * (tube_area + caps_area) < tube_area) {
+      const double angle = 2.0 * M_PI * uniform(rng);
+      const Vec3 n(std::cos(angle), std::sin(angle), 0.0);
+      s.points.push_back(radius * n + Vec3(0.0, 0.0, length * uniform(rng)));
+      s.normals.push_back(n);
+    } else {
+      const Vec3 n = random_unit(rng);
+      s.points.push_back(radius * n + Vec3(0.0, 0.0, n.z() > 0.0 ? length : 0.0));
+      s.normals.push_back(n);
+    }
+  }
+  return s;
+}
+
+// Gaussian noise of standard deviation `sigma` on every coordinate.
+inline std::vector<Vec3> with_noise(std::vector<Vec3> points, double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, sigma);
+  for (Vec3& p : points) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+  return points;
+}
+
+inline double bounding_diagonal(const std::vector<Vec3>& points) {
+  Vec3 low = points.front(), high = low;
+  for (const Vec3& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  return (high - low).norm();
 }
 
 }  // namespace vmas::test

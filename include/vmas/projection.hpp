@@ -2,6 +2,8 @@
 // Projection onto the medial axis (paper §3.3, "Sphere projection") by the shrinking-ball
 // algorithm (Ma, Bae, Choi 2012) over an exact KD-tree of the input points, with the
 // separation-angle denoising of Peters & Ledoux (2016).
+#include <vector>
+
 #include "vmas/kdtree.hpp"
 #include "vmas/shape.hpp"
 
@@ -31,6 +33,18 @@ class MedialProjector {
   // closest to `center`, in the direction of `center` if that points inside, else along −normal.
   Sphere project(const Vec3& center) const;
 
+  // How well the data encloses a volume: the median generalized winding number at the centres
+  // of the medial balls of evenly spread vertices (measured once, at construction). About 1 for a
+  // closed, consistently oriented surface; around 0.5 or less for a single-view scan, an open
+  // mesh or one whose faces disagree in orientation. When it is at least kEnclosed, balls whose
+  // centre has a winding number below ½ lie outside the shape and are rejected.
+  double enclosure() const { return enclosure_; }
+  static constexpr double kEnclosed = 0.8;
+
+  // Generalized winding number at `q` (Barill et al. 2018) from the vertices' areas and normals:
+  // blocks of vertices far from `q` count as one dipole. ~1 inside a closed surface, ~0 outside.
+  double winding_number(const Vec3& q) const;
+
  private:
   // One shrinking-ball run; `contact` is the sample that last shrank the ball (-1: none).
   Sphere shrink_along(int vertex, const Vec3& inward, int& contact) const;
@@ -38,10 +52,27 @@ class MedialProjector {
   // from the centre), as a medial ball must.
   bool seen_from_inside(const Sphere& ball, int contact) const;
 
+  // The largest radius of a ball touching `p` with its centre along `inward` that stays inside
+  // the data's bounding box (plus a margin): a ball that finds no sample must not grow past the
+  // data (open scans), and a medial ball of a closed shape never needs to.
+  double radius_limit(const Vec3& p, const Vec3& inward) const;
+
+  double measure_enclosure() const;
+
+  struct BlockDipole {  // the vertices of one of shape.blocks seen from afar
+    Vec3 center;        // area-weighted
+    Vec3 moment;        // Σ A(v) n_v
+    double radius;      // of the block around `center`
+  };
+
   const Shape& shape_;
   ShrinkingBallOptions options_;
   KdTree tree_;
   double cos_denoise_;
+  Vec3 box_low_, box_high_;  // bounding box grown by the margin
+  std::vector<BlockDipole> dipoles_;
+  bool reject_outside_ = false;  // balls with an outside centre are rejected
+  double enclosure_ = 0.0;
 };
 
 }  // namespace vmas

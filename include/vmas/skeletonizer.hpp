@@ -82,6 +82,7 @@ class Skeletonizer {
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
+  const MedialProjector& projector() const { return projector_; }
   const SkeletonizerOptions& options() const { return options_; }
   const StageTimes& times() const { return times_; }
   double total_error() const { return total_error_; }

@@ -1,0 +1,48 @@
+#pragma once
+// Scan noise: how much there is (a robust scale of the residuals to local quadric fits), and
+// its removal before normals and skeleton are computed: statistical outlier removal and
+// moving-least-squares projection (both from PCL).
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+struct NoiseEstimate {
+  double sigma = 0.0;    // standard deviation of the positions across the surface (absolute)
+  double spacing = 0.0;  // median distance from a point to its nearest neighbour (absolute)
+  int neighbours = 0;    // neighbourhood size (k) the estimate was read at
+};
+
+// Fits a quadric height field to the k nearest neighbours of evenly spread points (within an even
+// subset of 10 000 points) and takes the median RMS residual, at the smallest k in 16, 32, ...
+// 2048 whose neighbourhood radius is at least three times that residual (smaller neighbourhoods
+// lie inside the noise and underestimate it). Clean samples of a smooth surface give a tiny fraction of the spacing;
+// sharp edges touch too few points to move the median. Deterministic. Throws InvalidInput for
+// fewer than 16 points.
+NoiseEstimate estimate_noise(const std::vector<Vec3>& points);
+
+struct DenoiseOptions {
+  // Noise at or below this fraction of the spacing is left alone (clean samples, meshes).
+  double clean_fraction_of_spacing = 0.1;
+  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
+  int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
+  double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
+  void validate() const;              // throws InvalidOption
+};
+
+// True when `noise` calls for smoothing under `options`.
+bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
+
+// Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
+// outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
+// mean), ascending. Clouds too small for it keep every point.
+std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);
+
+// Projects every point onto the local quadric surface of PCL's MovingLeastSquares with support
+// `radius` (fitted on a voxel grid of radius / 6, at the grid sample nearest to the point), and
+// returns the unoriented surface normals there. A point without a valid fit nearby keeps its
+// position and gets a NaN normal (orient_normals repairs it).
+std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
+
+}  // namespace vmas

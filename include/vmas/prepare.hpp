@@ -1,0 +1,47 @@
+#pragma once
+// Turns a cleaned input into what the skeletonizer needs: outliers removed, scan noise measured
+// and smoothed away, normals estimated and oriented. What a front end would otherwise have to
+// repeat; the CLI is one caller.
+#include <vector>
+
+#include "vmas/denoise.hpp"
+#include "vmas/normals.hpp"
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+struct PrepareOptions {
+  enum class Denoise { Auto, Off, Fixed };
+  Denoise denoise = Denoise::Auto;  // Auto: measure the noise; Fixed: take `noise_sigma`
+  double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
+  bool remove_outliers = true;      // clouds, unless denoise is Off
+  bool estimate_normals = false;    // clouds: estimate even when the file has normals
+  bool orient_normals = false;      // clouds: re-orient the file's normals
+  NormalOptions normals;
+  DenoiseOptions noise;
+  void validate() const;  // throws InvalidOption
+};
+
+struct PrepareReport {
+  std::vector<int> kept;      // input index of every prepared point, ascending
+  std::size_t outliers = 0;   // points dropped as outliers
+  NoiseEstimate noise;        // as measured (or given), before smoothing
+  double diagonal = 0.0;      // bounding-box diagonal of the prepared points
+  double mls_radius = 0.0;    // support of the smoothing (0: not smoothed)
+  double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
+  bool normals_estimated = false, normals_oriented = false;
+  bool faces_dropped = false;  // a noisy mesh whose smoothed vertices went on as a cloud
+  double seconds = 0.0;
+};
+
+// Prepares `surface` in place (see above). A clean mesh is left as it is; a noisy one has its
+// vertices smoothed and becomes a cloud with the smoothed surface's normals (faces between
+// independently moved vertices fold). Throws InvalidInput when too few points remain.
+PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
+
+// Shrinking-ball tolerance (fraction of the diagonal) suited to what preparation left: samples
+// that scatter around the smoothed surface by the residual noise must not shrink a ball. Data
+// that was not smoothed keeps `base_tolerance`.
+double ball_tolerance_for(const PrepareReport& report, double base_tolerance);
+
+}  // namespace vmas

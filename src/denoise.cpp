@@ -1,0 +1,235 @@
+#include "vmas/denoise.hpp"
+
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/surface/mls.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "vmas/error.hpp"
+#include "vmas/kdtree.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace vmas {
+
+namespace {
+
+double median_of(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// RMS distance of `points[indices]` to their least-squares quadric height field over the PCA
+// plane, with the six fitted coefficients taken out of the degrees of freedom. NaN when the
+// neighbourhood is degenerate.
+double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>& indices) {
+  const int count = static_cast<int>(indices.size());
+  Vec3 centroid = Vec3::Zero();
+  for (int i : indices) centroid += points[i];
+  centroid /= count;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int i : indices) {
+    const Vec3 d = points[i] - centroid;
+    covariance += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Vec3 normal = eigen.eigenvectors().col(0);
+  const Vec3 u = eigen.eigenvectors().col(2);
+  const Vec3 v = eigen.eigenvectors().col(1);
+  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  double height_squares = 0.0;
+  for (int i : indices) {
+    const Vec3 d = points[i] - centroid;
+    const double x = d.dot(u), y = d.dot(v), h = d.dot(normal);
+    Eigen::Matrix<double, 6, 1> terms;
+    terms << 1.0, x, y, x * x, x * y, y * y;
+    normal_matrix += terms * terms.transpose();
+    rhs += h * terms;
+    height_squares += h * h;
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver(normal_matrix);
+  if (solver.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Matrix<double, 6, 1> coefficients = solver.solve(rhs);
+  // Sum of squared residuals of the least-squares solution: hᵀh − cᵀ(Pᵀh).
+  const double residual_squares = std::max(height_squares - coefficients.dot(rhs), 0.0);
+  return std::sqrt(residual_squares / (count - 6));
+}
+
+// Points moved to their centroid, in float: PCL computes in float, and large coordinates (far
+// from the origin) would lose their precision otherwise.
+pcl::PointCloud<pcl::PointXYZ>::Ptr centred_cloud(const std::vector<Vec3>& points, Vec3& centroid) {
+  centroid = Vec3::Zero();
+  for (const Vec3& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  cloud->resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f p = (points[i] - centroid).cast<float>();
+    (*cloud)[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
+  }
+  return cloud;
+}
+
+}  // namespace
+
+NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
+  constexpr int kMinNeighbours = 16, kMaxNeighbours = 2048;
+  constexpr double kRadiusInResiduals = 3.0;
+  // The noise of a point does not depend on how many others there are: the fits run on an even
+  // subset, so that big clouds cost no more and need no bigger neighbourhoods.
+  constexpr int kSubset = 10'000;
+  // Query points: enough for a stable median, fewer for the large neighbourhoods.
+  constexpr long kQueryNeighbours = 2'000'000;
+  const int count = static_cast<int>(points.size());
+  if (count < kMinNeighbours)
+    throw InvalidInput("too few points (" + std::to_string(count) + ") to estimate the noise");
+  NoiseEstimate estimate;
+  const KdTree tree(points);
+  std::vector<double> spacings;
+  std::vector<int> indices;
+  std::vector<double> squared_distances;
+  for (int i = 0; i < count; i += std::max(1, count / kSubset)) {
+    tree.k_nearest(points[i], 2, indices, squared_distances);
+    spacings.push_back(std::sqrt(squared_distances.back()));
+  }
+  estimate.spacing = median_of(spacings);
+
+  std::vector<Vec3> subset;
+  for (int i = 0; i < count; i += std::max(1, count / kSubset)) subset.push_back(points[i]);
+  const int subset_count = static_cast<int>(subset.size());
+  const KdTree subset_tree(subset);
+  for (int k = kMinNeighbours; k <= kMaxNeighbours; k *= 2) {
+    const int width = std::min(k, subset_count);
+    const int stride =
+        std::max<long>(1, subset_count / std::max<long>(kQueryNeighbours / width, 200));
+    std::vector<int> queries;
+    for (int i = 0; i < subset_count; i += stride) queries.push_back(i);
+    const int query_count = static_cast<int>(queries.size());
+    std::vector<double> residuals(query_count), radii(query_count);
+#pragma omp parallel
+    {
+      std::vector<int> neighbours;
+      std::vector<double> distances;
+#pragma omp for schedule(static)
+      for (int q = 0; q < query_count; ++q) {
+        subset_tree.k_nearest(subset[queries[q]], width, neighbours, distances);
+        residuals[q] = quadric_residual(subset, neighbours);
+        radii[q] = std::sqrt(distances.back());
+      }
+    }
+    residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
+                                   [](double r) { return !std::isfinite(r); }),
+                    residuals.end());
+    estimate.sigma = median_of(residuals);
+    estimate.neighbours = width;
+    if (median_of(radii) >= kRadiusInResiduals * estimate.sigma || width == subset_count) break;
+  }
+  return estimate;
+}
+
+void DenoiseOptions::validate() const {
+  if (!(clean_fraction_of_spacing >= 0.0 && clean_fraction_of_spacing <= 100.0))
+    throw InvalidOption("clean fraction of the spacing must be in [0, 100]");
+  if (!(mls_radius_in_sigmas > 0.0 && mls_radius_in_sigmas <= 100.0))
+    throw InvalidOption("MLS radius must be in (0, 100] noise deviations");
+  if (outlier_k < 2 || outlier_k > 200)
+    throw InvalidOption("outlier k must be between 2 and 200 (got " + std::to_string(outlier_k) +
+                        ")");
+  if (!(outlier_deviations > 0.0))
+    throw InvalidOption("outlier deviations must be positive");
+}
+
+bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options) {
+  return noise.sigma > options.clean_fraction_of_spacing * noise.spacing;
+}
+
+std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options) {
+  options.validate();
+  std::vector<int> kept;
+  if (static_cast<int>(points.size()) <= 2 * options.outlier_k) {
+    kept.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) kept[i] = static_cast<int>(i);
+    return kept;
+  }
+  Vec3 centroid;
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
+  filter.setInputCloud(centred_cloud(points, centroid));
+  filter.setMeanK(options.outlier_k);
+  filter.setStddevMulThresh(options.outlier_deviations);
+  pcl::Indices indices;
+  filter.filter(indices);
+  kept.assign(indices.begin(), indices.end());
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
+  if (!(radius > 0.0)) throw InvalidOption("MLS radius must be positive");
+  constexpr double kFitsPerRadius = 6.0;       // voxel size of the fitting cloud: radius / this
+  constexpr double kMaxVoxelsPerAxis = 1000.0;  // keeps VoxelGrid's integer keys from overflowing
+  constexpr int kPolynomialCoefficients = 6;    // order 2
+  Vec3 centroid;
+  const auto cloud = centred_cloud(points, centroid);
+  // The surface is fitted on a voxel grid's centroids: a bounded number of samples per fit
+  // whatever the density, and the voxel averages are already less noisy.
+  Vec3 low = points.front(), high = low;
+  for (const Vec3& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const float voxel = static_cast<float>(
+      std::max(radius / kFitsPerRadius, (high - low).maxCoeff() / kMaxVoxelsPerAxis));
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  grid.setInputCloud(cloud);
+  grid.setLeafSize(voxel, voxel, voxel);
+  auto fitting = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  grid.filter(*fitting);
+
+  pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal> mls;
+  mls.setInputCloud(fitting);
+  mls.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  mls.setSearchRadius(radius);
+  mls.setPolynomialOrder(2);
+  mls.setCacheMLSResults(true);
+#ifdef _OPENMP
+  mls.setNumberOfThreads(static_cast<unsigned>(omp_get_max_threads()));
+#endif
+  pcl::PointCloud<pcl::PointNormal> fitted;
+  mls.process(fitted);
+  const std::vector<pcl::MLSResult>& surfaces = mls.getMLSResults();
+
+  // Every point goes onto the surface fitted at its nearest fitting sample.
+  std::vector<Vec3> fitting_points(fitting->size());
+  for (std::size_t i = 0; i < fitting->size(); ++i)
+    fitting_points[i] = (*fitting)[i].getVector3fMap().cast<double>();
+  const KdTree tree(fitting_points);
+  std::vector<Vec3> normals(points.size(), Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+  const int count = static_cast<int>(points.size());
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < count; ++i) {
+    const Vec3 local = points[i] - centroid;
+    const pcl::MLSResult& surface = surfaces[tree.nearest(local)];
+    if (!surface.valid) continue;
+    const pcl::MLSResult::MLSProjectionResults projected =
+        surface.projectPoint(local, pcl::MLSResult::SIMPLE, kPolynomialCoefficients);
+    if (!projected.point.allFinite() || !projected.normal.allFinite()) continue;
+    points[i] = projected.point + centroid;
+    normals[i] = projected.normal;
+  }
+  return normals;
+}
+
+}  // namespace vmas

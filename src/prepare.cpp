@@ -1,0 +1,122 @@
+#include "vmas/prepare.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <string>
+
+#include "vmas/error.hpp"
+
+namespace vmas {
+
+namespace {
+
+double diagonal_of(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0.0;
+  Vec3 low = points.front(), high = low;
+  for (const Vec3& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  return (high - low).norm();
+}
+
+template <typename T>
+void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
+  if (values.empty()) return;
+  std::vector<T> selected;
+  selected.reserve(kept.size());
+  for (int i : kept) selected.push_back(values[i]);
+  values = std::move(selected);
+}
+
+// Points needed for a noise estimate; smaller clouds are taken as they are.
+constexpr std::size_t kMinPointsForNoise = 16;
+
+}  // namespace
+
+void PrepareOptions::validate() const {
+  if (denoise == Denoise::Fixed && !(noise_sigma >= 0.0 && noise_sigma < 0.5))
+    throw InvalidOption("denoise sigma must be in [0, 0.5) of the bounding-box diagonal (got " +
+                        std::to_string(noise_sigma) + ")");
+  normals.validate();
+  noise.validate();
+}
+
+PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  PrepareReport report;
+  report.kept.resize(surface.points.size());
+  std::iota(report.kept.begin(), report.kept.end(), 0);
+  const bool cloud = !surface.is_mesh();
+  const bool denoise = options.denoise != PrepareOptions::Denoise::Off;
+
+  // Stray points far from the surface (scanner artefacts, registration leftovers) would each
+  // stop shrinking balls and pull clusters; a mesh's vertices are never strays.
+  if (cloud && denoise && options.remove_outliers) {
+    report.kept = inlier_indices(surface.points, options.noise);
+    report.outliers = surface.points.size() - report.kept.size();
+    keep_only(surface.points, report.kept);
+    keep_only(surface.normals, report.kept);
+  }
+  report.diagonal = diagonal_of(surface.points);
+
+  bool noisy = false;
+  if (options.denoise == PrepareOptions::Denoise::Auto &&
+      surface.points.size() >= kMinPointsForNoise) {
+    report.noise = estimate_noise(surface.points);
+    noisy = is_noisy(report.noise, options.noise);
+  } else if (options.denoise == PrepareOptions::Denoise::Fixed) {
+    if (surface.points.size() >= kMinPointsForNoise)
+      report.noise.spacing = estimate_noise(surface.points).spacing;
+    report.noise.sigma = options.noise_sigma * report.diagonal;
+    noisy = report.noise.sigma > 0.0;
+  }
+
+  std::vector<Vec3> smoothed_normals;
+  if (noisy) {
+    // The support must hold enough samples for a quadric fit even when the noise is far below
+    // the spacing.
+    report.mls_radius = std::max(options.noise.mls_radius_in_sigmas * report.noise.sigma,
+                                 3.0 * report.noise.spacing);
+    smoothed_normals = smooth_mls(surface.points, report.mls_radius);
+    report.residual_noise = estimate_noise(surface.points).sigma;
+  } else {
+    report.residual_noise = report.noise.sigma;
+  }
+
+  if (!cloud && noisy) {
+    // Vertices moved one by one fold the faces between them, and folded faces give wrong
+    // normals, areas and quadrics: the smoothed vertices go on as a cloud, with the normals of
+    // the smoothed surface.
+    surface.faces.clear();
+    report.faces_dropped = true;
+  }
+  // A mesh's normals, areas and quadrics come from its faces.
+  if (!surface.is_mesh()) {
+    if (noisy && (!surface.has_normals() || options.estimate_normals || report.faces_dropped)) {
+      // The MLS normals are those of the smoothed surface at the noise's scale: better than a
+      // fresh fit to a few neighbours; only their signs are missing.
+      surface.normals = std::move(smoothed_normals);
+      orient_normals(surface.points, surface.normals, options.normals.k);
+      report.normals_estimated = true;
+    } else if (!surface.has_normals() || options.estimate_normals) {
+      surface.normals = estimate_normals(surface.points, options.normals);
+      report.normals_estimated = true;
+    } else if (options.orient_normals) {
+      orient_normals(surface.points, surface.normals, options.normals.k);
+      report.normals_oriented = true;
+    }
+  }
+  report.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+double ball_tolerance_for(const PrepareReport& report, double base_tolerance) {
+  if (!(report.diagonal > 0.0) || report.mls_radius == 0.0) return base_tolerance;
+  return std::max(base_tolerance, 2.0 * report.residual_noise / report.diagonal);
+}
+
+}  // namespace vmas

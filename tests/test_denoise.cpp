@@ -1,0 +1,163 @@
+// Noise estimation, outlier removal, MLS smoothing and input preparation on noisy shapes built
+// in code (fixed seeds).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "test_shapes.hpp"
+#include "vmas/denoise.hpp"
+#include "vmas/error.hpp"
+#include "vmas/prepare.hpp"
+#include "vmas/skeletonizer.hpp"
+
+namespace vmas {
+namespace {
+
+using test::Sample;
+
+double rms_distance_to_sphere(const std::vector<Vec3>& points, const Vec3& center, double radius) {
+  double sum = 0.0;
+  for (const Vec3& p : points) sum += std::pow((p - center).norm() - radius, 2);
+  return std::sqrt(sum / points.size());
+}
+
+TEST(DenoiseNoise, CleanSamplesAreNotNoisy) {
+  const Sample s = test::sample_sphere(Vec3(1, 2, 3), 1.0, 5000, 1);
+  const NoiseEstimate noise = estimate_noise(s.points);
+  EXPECT_GT(noise.spacing, 0.0);
+  EXPECT_FALSE(is_noisy(noise, {})) << "sigma " << noise.sigma << ", spacing " << noise.spacing;
+  const auto mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
+  EXPECT_FALSE(is_noisy(estimate_noise(mesh.points), {}));
+}
+
+TEST(DenoiseNoise, EstimateFollowsTheNoise) {
+  const Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 2);
+  const double diagonal = test::bounding_diagonal(s.points);
+  for (double fraction : {0.005, 0.01, 0.02}) {
+    const double sigma = fraction * diagonal;
+    const NoiseEstimate noise = estimate_noise(test::with_noise(s.points, sigma, 3));
+    EXPECT_TRUE(is_noisy(noise, {}));
+    EXPECT_GT(noise.sigma, 0.6 * sigma) << "noise " << fraction;
+    EXPECT_LT(noise.sigma, 1.4 * sigma) << "noise " << fraction;
+  }
+}
+
+TEST(DenoiseNoise, RejectsTinyClouds) {
+  EXPECT_THROW(estimate_noise(std::vector<Vec3>(10, Vec3::Zero())), InvalidInput);
+}
+
+TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
+  Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 10000, 4);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> box(-1.0, 1.0);
+  for (int i = 0; i < 100; ++i) s.points.emplace_back(box(rng), box(rng), box(rng));
+  // Strays that happen to fall near the sphere are no outliers; count the others.
+  int far_strays = 0;
+  for (int i = 10000; i < 10100; ++i) far_strays += std::abs(s.points[i].norm() - 1.0) > 0.1;
+  const std::vector<int> kept = inlier_indices(s.points, {});
+  int surface_kept = 0, far_strays_kept = 0;
+  for (int i : kept) {
+    if (i < 10000)
+      ++surface_kept;
+    else
+      far_strays_kept += std::abs(s.points[i].norm() - 1.0) > 0.1;
+  }
+  EXPECT_GT(surface_kept, 0.99 * 10000);
+  EXPECT_LT(far_strays_kept, 0.1 * far_strays);
+}
+
+TEST(DenoiseMls, PullsNoisyPointsBackOntoTheSurface) {
+  const Vec3 center(1, 2, 3);
+  const Sample s = test::sample_sphere(center, 1.0, 10000, 6);
+  std::vector<Vec3> points = test::with_noise(s.points, 0.02, 7);
+  const double before = rms_distance_to_sphere(points, center, 1.0);
+  const std::vector<Vec3> normals = smooth_mls(points, 0.2);
+  ASSERT_EQ(normals.size(), points.size());
+  EXPECT_LT(rms_distance_to_sphere(points, center, 1.0), 0.3 * before);
+  int along_radius = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    along_radius += std::abs(normals[i].dot((points[i] - center).normalized())) > 0.95;
+  EXPECT_GT(along_radius, 0.99 * points.size());
+}
+
+// Fraction of prepared normals that agree in sign with the true ones of the points they came
+// from.
+double agreeing_fraction(const PrepareReport& report, const std::vector<Vec3>& normals,
+                         const std::vector<Vec3>& truth) {
+  int agreeing = 0;
+  for (std::size_t i = 0; i < report.kept.size(); ++i)
+    agreeing += normals[i].dot(truth[report.kept[i]]) > 0.0;
+  return static_cast<double>(agreeing) / report.kept.size();
+}
+
+TEST(PrepareNoisy, NormalsAgreeInSignAtTwoPercentNoise) {
+  const std::vector<std::pair<const char*, Sample>> shapes = {
+      {"sphere", test::sample_sphere(Vec3::Zero(), 1.0, 20000, 8)},
+      {"torus", test::sample_torus(1.0, 0.35, 30000, 9)},
+      {"capsule", test::sample_capsule(0.4, 2.0, 30000, 10)},
+      {"thin plate", test::sample_box(Vec3(2.0, 1.0, 0.3), 30000, 11)}};
+  for (const auto& [name, shape] : shapes) {
+    SurfaceInput input;
+    input.points = test::with_noise(shape.points, 0.02 * test::bounding_diagonal(shape.points), 12);
+    const PrepareReport report = prepare_surface(input, {});
+    EXPECT_GT(report.mls_radius, 0.0) << name;
+    EXPECT_TRUE(report.normals_estimated) << name;
+    EXPECT_GE(agreeing_fraction(report, input.normals, shape.normals), 0.99) << name;
+  }
+}
+
+TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
+  const double radius = 0.4, length = 2.0;
+  const Sample shape = test::sample_capsule(radius, length, 20000, 13);
+  SurfaceInput input;
+  input.points = test::with_noise(shape.points, 0.01 * test::bounding_diagonal(shape.points), 14);
+  const PrepareReport report = prepare_surface(input, {});
+  SkeletonizerOptions options;
+  options.target_spheres = 10;
+  options.shrinking_ball.tolerance = ball_tolerance_for(report, options.shrinking_ball.tolerance);
+  Skeletonizer skeletonizer(build_shape(input, {}), options);
+  skeletonizer.run();
+  for (const Sphere& s : skeletonizer.spheres()) {
+    const double z = std::clamp(s.center.z(), 0.0, length);
+    const double reach = (s.center - Vec3(0.0, 0.0, z)).norm() + s.radius;
+    EXPECT_LE(reach, radius + report.noise.sigma)
+        << "sphere at " << s.center.transpose() << ", radius " << s.radius;
+  }
+}
+
+TEST(PrepareClean, MeshAndCleanCloudAreLeftAsTheyAre) {
+  SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
+  const std::vector<Vec3> vertices = mesh.points;
+  const PrepareReport mesh_report = prepare_surface(mesh, {});
+  EXPECT_EQ(mesh_report.mls_radius, 0.0);
+  EXPECT_EQ(mesh.points, vertices);
+
+  const Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 5000, 15);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  const PrepareReport cloud_report = prepare_surface(cloud, {});
+  EXPECT_EQ(cloud_report.mls_radius, 0.0);
+  // Random sampling leaves a few sparse spots; the outlier test may drop a handful there.
+  EXPECT_LT(cloud_report.outliers, 0.01 * 5000);
+  ASSERT_EQ(cloud.points.size(), cloud_report.kept.size());
+  for (std::size_t i = 0; i < cloud.points.size(); ++i)
+    EXPECT_EQ(cloud.points[i], s.points[cloud_report.kept[i]]);
+  EXPECT_GE(agreeing_fraction(cloud_report, cloud.normals, s.normals), 1.0);
+}
+
+TEST(PrepareOff, TakesThePointsAsTheyAre) {
+  const Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 5000, 16);
+  SurfaceInput cloud;
+  cloud.points = test::with_noise(s.points, 0.02, 17);
+  const std::vector<Vec3> noisy = cloud.points;
+  PrepareOptions options;
+  options.denoise = PrepareOptions::Denoise::Off;
+  const PrepareReport report = prepare_surface(cloud, options);
+  EXPECT_EQ(cloud.points, noisy);
+  EXPECT_EQ(report.kept.size(), noisy.size());
+  EXPECT_TRUE(report.normals_estimated);
+}
+
+}  // namespace
+}  // namespace vmas
