@@ -1,6 +1,7 @@
 // tests/corpus holds small hostile files: malformed headers, headers announcing far more data
 // than the file holds, truncations, huge or non-finite values, and inputs that once crashed a
-// fuzzer (tests/fuzz). Each must load sanely or fail with one IoError line naming the file.
+// fuzzer (tests/fuzz); plus small valid shapes (seed_*) that seed the fuzzers. Each must load
+// sanely or fail with one IoError line naming the file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
