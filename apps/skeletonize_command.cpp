@@ -148,6 +148,11 @@ void run_skeletonize(const std::string& input, const std::string& output,
                    p.error);
   });
   if (show_progress) std::fprintf(stderr, "\n");
+  // The count is a promise: a skeleton with fewer spheres is an error, not a result.
+  if (options.target_spheres > 0 && summary.spheres < options.target_spheres)
+    throw InvalidInput("cannot place " + std::to_string(options.target_spheres) + " spheres on " +
+                       std::to_string(skeletonizer.shape().size()) + " usable points (placed " +
+                       std::to_string(summary.spheres) + "); ask for fewer");
   // A single-view scan, an open mesh or faces that disagree in orientation have no inside, and
   // the skeleton of such data is no medial axis.
   const double enclosure = skeletonizer.projector().enclosure();
@@ -161,7 +166,7 @@ void run_skeletonize(const std::string& input, const std::string& output,
               << "single-view scan, holes, or inconsistently oriented faces; the skeleton is "
                  "only an approximation there\n";
   const auto connectivity_start = Clock::now();
-  const MedialMesh mesh = skeletonizer.medial_mesh();
+  const MedialMesh mesh = prepared.frame.to_input(skeletonizer.medial_mesh());
   const double connectivity_time = seconds_since(connectivity_start);
   const auto write_start = Clock::now();
   write_medial_mesh(output, mesh);

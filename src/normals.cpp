@@ -266,21 +266,6 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
   return normals;
 }
 
-void smooth_points(std::vector<Vec3>& points, int k, int iterations) {
-  NormalOptions{k}.validate();
-  if (iterations < 0) throw InvalidOption("smoothing iterations must be 0 or more");
-  if (iterations == 0) return;
-  check_enough_points(static_cast<int>(points.size()), k, "smooth");
-  for (int iteration = 0; iteration < iterations; ++iteration) {
-    const std::vector<Eigen::Vector4d> planes = fitted_planes(points, k_nearest_all(points, k));
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const Vec3 normal = planes[i].head<3>();
-      if (!planes[i].allFinite()) continue;  // degenerate neighbourhood: leave the point
-      points[i] -= (normal.dot(points[i]) + planes[i].w()) * normal;
-    }
-  }
-}
-
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
   NormalOptions{k}.validate();
   if (normals.size() != points.size())

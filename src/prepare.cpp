@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <string>
 
@@ -32,8 +33,52 @@ void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
 
 // Points needed for a noise estimate; smaller clouds are taken as they are.
 constexpr std::size_t kMinPointsForNoise = 16;
+// A deviation from the smoothed surface this much above the first estimate replaces it.
+constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
+
+// Robust standard deviation of the distances between points and their smoothed positions:
+// the median distance over that of a Gaussian's absolute value.
+double deviation_from(const std::vector<Vec3>& points, const std::vector<Vec3>& smoothed) {
+  std::vector<double> distances(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) distances[i] = (points[i] - smoothed[i]).norm();
+  const auto middle = distances.begin() + distances.size() / 2;
+  std::nth_element(distances.begin(), middle, distances.end());
+  return *middle / 0.6745;
+}
+
+// Coordinates are moved to the centre when the offset exceeds this many diagonals, and scaled
+// when the diagonal is outside [1 / kSizeRange, kSizeRange].
+constexpr double kMaxOffsetInDiagonals = 16.0, kSizeRange = 1e3;
+
+Frame normalize(std::vector<Vec3>& points) {
+  Frame frame;
+  if (points.empty()) return frame;
+  Vec3 low = points.front(), high = low;
+  for (const Vec3& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const Vec3 center = 0.5 * (low + high);
+  const double diagonal = (high - low).norm();
+  const bool offset = center.norm() > kMaxOffsetInDiagonals * diagonal;
+  const bool outsized = diagonal > 0.0 && (diagonal > kSizeRange || diagonal < 1.0 / kSizeRange);
+  if (!offset && !outsized) return frame;
+  if (offset) frame.origin = center;
+  // A power of two scales without rounding.
+  if (outsized) frame.scale = std::ldexp(1.0, std::ilogb(diagonal));
+  for (Vec3& p : points) p = (p - frame.origin) / frame.scale;
+  return frame;
+}
 
 }  // namespace
+
+MedialMesh Frame::to_input(MedialMesh mesh) const {
+  for (Sphere& s : mesh.spheres) {
+    s.center = to_input(s.center);
+    s.radius *= scale;
+  }
+  return mesh;
+}
 
 void PrepareOptions::validate() const {
   if (denoise == Denoise::Fixed && !(noise_sigma >= 0.0 && noise_sigma < 0.5))
@@ -49,6 +94,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   PrepareReport report;
   report.kept.resize(surface.points.size());
   std::iota(report.kept.begin(), report.kept.end(), 0);
+  report.frame = normalize(surface.points);
   const bool cloud = !surface.is_mesh();
   const bool denoise = options.denoise != PrepareOptions::Denoise::Off;
 
@@ -78,9 +124,26 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   if (noisy) {
     // The support must hold enough samples for a quadric fit even when the noise is far below
     // the spacing.
-    report.mls_radius = std::max(options.noise.mls_radius_in_sigmas * report.noise.sigma,
-                                 3.0 * report.noise.spacing);
-    smoothed_normals = smooth_mls(surface.points, report.mls_radius);
+    const auto radius_for = [&](double sigma) {
+      return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
+    };
+    std::vector<Vec3> smoothed = surface.points;
+    report.mls_radius = radius_for(report.noise.sigma);
+    smoothed_normals = smooth_mls(smoothed, report.mls_radius);
+    // Local fits read strong noise low (their neighbourhoods hardly reach past it); the distances
+    // to the smoothed surface do not. When they say more, smooth again at their scale.
+    if (options.denoise == PrepareOptions::Denoise::Auto) {
+      // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
+      const double sigma = std::min(deviation_from(surface.points, smoothed),
+                                    kMaxReestimate * report.noise.sigma);
+      if (sigma > kReestimate * report.noise.sigma) {
+        report.noise.sigma = sigma;
+        smoothed = surface.points;
+        report.mls_radius = radius_for(sigma);
+        smoothed_normals = smooth_mls(smoothed, report.mls_radius);
+      }
+    }
+    surface.points = std::move(smoothed);
     report.residual_noise = estimate_noise(surface.points).sigma;
   } else {
     report.residual_noise = report.noise.sigma;

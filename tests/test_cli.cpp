@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -85,6 +86,28 @@ TEST_F(Cli, SkeletonizesAMeshAndWritesLabels) {
     ++lines;
   }
   EXPECT_EQ(lines, static_cast<int>(read_surface(path("capsule.off")).points.size()));
+}
+
+TEST_F(Cli, FarFromTheOriginOrOutsizedGivesTheSameSkeleton) {
+  // Georeferenced data: a capsule 1e8 away from the origin, and the same capsule in other units.
+  const SurfaceInput capsule = test::capsule(0.2, 1.0, 8, 24);
+  for (const auto& [offset, scale] : {std::pair{Vec3(1e8, -1e8, 5e7), 1.0},
+                                      std::pair{Vec3(0.0, 0.0, 0.0), 1e-6},
+                                      std::pair{Vec3(3e3, 0.0, 0.0), 1e5}}) {
+    SurfaceInput moved = capsule;
+    for (Vec3& p : moved.points) p = offset + scale * p;
+    write_surface(path("moved.off"), moved);
+    const Result r = run("skeletonize " + path("moved.off") + " --spheres 6 -o " + path("out.ply"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const MedialMesh mesh = read_medial_mesh(path("out.ply"));
+    ASSERT_EQ(mesh.spheres.size(), 6u);
+    for (const Sphere& s : mesh.spheres) {
+      const Vec3 c = (s.center - offset) / scale;  // back in the capsule's own units
+      EXPECT_LT(std::hypot(c.x(), c.y()), 0.02) << "offset " << offset.x() << ", scale " << scale;
+      EXPECT_GT(s.radius / scale, 0.1) << "offset " << offset.x() << ", scale " << scale;
+      EXPECT_LT(s.radius / scale, 0.21) << "offset " << offset.x() << ", scale " << scale;
+    }
+  }
 }
 
 TEST_F(Cli, WritesMaByExtension) {

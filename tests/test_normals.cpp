@@ -249,30 +249,5 @@ TEST(NormalsRealData, MergedBunnyIsConsistentAndOutward) {
   EXPECT_GT(agreeing_fraction, 0.97);
 }
 
-TEST(NormalsSmooth, PullsNoisyPointsBackOntoTheSurface) {
-  Sample noisy = sample_sphere(Vec3(1, 2, 3), 1.0, 4000, 11);
-  std::mt19937 rng(12);
-  std::normal_distribution<double> noise(0.0, 0.02);
-  for (Vec3& p : noisy.points) p += Vec3(noise(rng), noise(rng), noise(rng));
-  auto rms_radial_error = [](const std::vector<Vec3>& points) {
-    double sum = 0.0;
-    for (const Vec3& p : points) sum += std::pow((p - Vec3(1, 2, 3)).norm() - 1.0, 2);
-    return std::sqrt(sum / static_cast<double>(points.size()));
-  };
-  const double before = rms_radial_error(noisy.points);
-  std::vector<Vec3> points = noisy.points;
-  smooth_points(points, 16, 0);
-  EXPECT_EQ(points, noisy.points);
-  smooth_points(points, 16, 2);
-  const double after = rms_radial_error(points);
-  std::printf("RMS distance to the sphere: %.4f before, %.4f after 2 smoothing passes\n", before,
-              after);
-  EXPECT_LT(after, 0.5 * before);
-  EXPECT_THROW(smooth_points(points, 16, -1), InvalidOption);
-  EXPECT_THROW(smooth_points(points, 1, 1), InvalidOption);
-  std::vector<Vec3> few(5, Vec3::Zero());
-  EXPECT_THROW(smooth_points(few, 16, 1), InvalidInput);
-}
-
 }  // namespace
 }  // namespace vmas

@@ -19,11 +19,6 @@ struct NormalOptions {
 // neighbourhood gets a finite normal whose line may be arbitrary).
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options);
 
-// Moves every point onto the least-squares plane of its k nearest neighbours, `iterations`
-// times: a cheap denoising of scans before normals and skeleton are computed. Throws like
-// estimate_normals; 0 iterations leave the points as they are.
-void smooth_points(std::vector<Vec3>& points, int k, int iterations);
-
 // Flips given normals so that neighbours agree and each connected component of the k-NN graph
 // points outward. Also normalises them and replaces NaN or zero ones by finite ones. Throws
 // InvalidOption for a bad k and InvalidInput when the two sizes differ.

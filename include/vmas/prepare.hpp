@@ -22,7 +22,17 @@ struct PrepareOptions {
   void validate() const;  // throws InvalidOption
 };
 
+// A translation and a power-of-two scale: prepared coordinates = (input − origin) / scale.
+struct Frame {
+  Vec3 origin = Vec3::Zero();
+  double scale = 1.0;
+  Vec3 to_input(const Vec3& p) const { return origin + scale * p; }
+  // A medial mesh computed from prepared points, back in the input's coordinates.
+  MedialMesh to_input(MedialMesh mesh) const;
+};
+
 struct PrepareReport {
+  Frame frame;                // identity unless the input was far from the origin or outsized
   std::vector<int> kept;      // input index of every prepared point, ascending
   std::size_t outliers = 0;   // points dropped as outliers
   NoiseEstimate noise;        // as measured (or given), before smoothing
@@ -34,7 +44,10 @@ struct PrepareReport {
   double seconds = 0.0;
 };
 
-// Prepares `surface` in place (see above). A clean mesh is left as it is; a noisy one has its
+// Prepares `surface` in place (see above). Data far from the origin compared with its size
+// (georeferenced scans) or of extreme size is first moved to its bounding-box centre and scaled
+// by a power of two (report.frame; map results back with Frame::to_input), so that no stage
+// loses precision to the offset. A clean mesh is left as it is; a noisy one has its
 // vertices smoothed and becomes a cloud with the smoothed surface's normals (faces between
 // independently moved vertices fold). Throws InvalidInput when too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
