@@ -104,8 +104,7 @@ void run_skeletonize(const std::string& input, const std::string& output,
                 << " degenerate faces, " << report.unused_points << " unused vertices\n";
   }
   const PrepareReport prepared = prepare_surface(surface, prepare_options);
-  options.shrinking_ball.tolerance =
-      ball_tolerance_for(prepared, options.shrinking_ball.tolerance);
+  adapt_shrinking_ball(prepared, options.shrinking_ball);
   if (!quiet) {
     if (prepared.outliers > 0)
       std::cout << "outliers: removed " << prepared.outliers << " points\n";

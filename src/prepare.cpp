@@ -35,6 +35,8 @@ void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
 constexpr std::size_t kMinPointsForNoise = 16;
 // A deviation from the smoothed surface this much above the first estimate replaces it.
 constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
+// Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
+constexpr double kMaxBallTolerance = 0.05;
 
 // Robust standard deviation of the distances between points and their smoothed positions:
 // the median distance over that of a Gaussian's absolute value.
@@ -177,9 +179,11 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   return report;
 }
 
-double ball_tolerance_for(const PrepareReport& report, double base_tolerance) {
-  if (!(report.diagonal > 0.0) || report.mls_radius == 0.0) return base_tolerance;
-  return std::max(base_tolerance, 2.0 * report.residual_noise / report.diagonal);
+void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options) {
+  if (!(report.diagonal > 0.0) || report.mls_radius == 0.0) return;
+  options.tolerance = std::clamp(2.0 * report.residual_noise / report.diagonal, options.tolerance,
+                                 kMaxBallTolerance);
+  options.reject_outside = true;
 }
 
 }  // namespace vmas

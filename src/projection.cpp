@@ -74,7 +74,7 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
   }
   // Inside and outside mean something only for data that encloses a volume.
   enclosure_ = measure_enclosure();
-  reject_outside_ = enclosure_ >= kEnclosed;
+  reject_outside_ = options_.reject_outside && enclosure_ >= kEnclosed;
 }
 
 double MedialProjector::radius_limit(const Vec3& p, const Vec3& inward) const {

@@ -115,7 +115,7 @@ TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
   const PrepareReport report = prepare_surface(input, {});
   SkeletonizerOptions options;
   options.target_spheres = 10;
-  options.shrinking_ball.tolerance = ball_tolerance_for(report, options.shrinking_ball.tolerance);
+  adapt_shrinking_ball(report, options.shrinking_ball);
   Skeletonizer skeletonizer(build_shape(input, {}), options);
   skeletonizer.run();
   for (const Sphere& s : skeletonizer.spheres()) {

@@ -6,6 +6,7 @@
 
 #include "vmas/denoise.hpp"
 #include "vmas/normals.hpp"
+#include "vmas/projection.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
@@ -52,9 +53,10 @@ struct PrepareReport {
 // independently moved vertices fold). Throws InvalidInput when too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
 
-// Shrinking-ball tolerance (fraction of the diagonal) suited to what preparation left: samples
-// that scatter around the smoothed surface by the residual noise must not shrink a ball. Data
-// that was not smoothed keeps `base_tolerance`.
-double ball_tolerance_for(const PrepareReport& report, double base_tolerance);
+// Shrinking-ball settings suited to what preparation left, for smoothed (noisy) data: samples
+// that scatter around the smoothed surface by the residual noise must not shrink a ball, and a
+// ball whose centre is outside the shape is rejected (noise flips normals near thin parts).
+// Clean data keeps `options` as they are.
+void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options);
 
 }  // namespace vmas

@@ -15,6 +15,8 @@ struct ShrinkingBallOptions {
   double initial_radius = 1.0;      // first ball radius, relative to the diagonal
   double denoise_angle_deg = 20.0;  // stop shrinking when the two contacts separate by less
                                     // than this (noise, not a medial feature); 0 disables it
+  bool reject_outside = false;      // reject balls whose centre the winding number puts outside
+                                    // (when the data encloses a volume); for smoothed noisy data
   void validate() const;            // throws InvalidOption
 };
 
@@ -36,8 +38,8 @@ class MedialProjector {
   // How well the data encloses a volume: the median generalized winding number at the centres
   // of the medial balls of evenly spread vertices (measured once, at construction). About 1 for a
   // closed, consistently oriented surface; around 0.5 or less for a single-view scan, an open
-  // mesh or one whose faces disagree in orientation. When it is at least kEnclosed, balls whose
-  // centre has a winding number below ½ lie outside the shape and are rejected.
+  // mesh or one whose faces disagree in orientation. When it is at least kEnclosed and the options
+  // ask for it, balls whose centre has a winding number below ½ lie outside and are rejected.
   double enclosure() const { return enclosure_; }
   static constexpr double kEnclosed = 0.8;
 
