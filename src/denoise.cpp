@@ -92,7 +92,7 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
   // subset, so that big clouds cost no more and need no bigger neighbourhoods.
   constexpr int kSubset = 10'000;
   // Query points: enough for a stable median, fewer for the large neighbourhoods.
-  constexpr long kQueryNeighbours = 2'000'000;
+  constexpr long kQueryNeighbours = 500'000, kMinQueries = 500, kMaxQueries = 4000;
   const int count = static_cast<int>(points.size());
   if (count < kMinNeighbours)
     throw InvalidInput("too few points (" + std::to_string(count) + ") to estimate the noise");
@@ -113,8 +113,8 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
   const KdTree subset_tree(subset);
   for (int k = kMinNeighbours; k <= kMaxNeighbours; k *= 2) {
     const int width = std::min(k, subset_count);
-    const int stride =
-        std::max<long>(1, subset_count / std::max<long>(kQueryNeighbours / width, 200));
+    const long queries_wanted = std::clamp(kQueryNeighbours / width, kMinQueries, kMaxQueries);
+    const int stride = std::max<long>(1, subset_count / queries_wanted);
     std::vector<int> queries;
     for (int i = 0; i < subset_count; i += stride) queries.push_back(i);
     const int query_count = static_cast<int>(queries.size());

@@ -20,8 +20,12 @@ constexpr double kMinProbeRadiusInSpacings = 0.5;
 // A block of vertices this many of its radii away from a point counts as one dipole (relative
 // error of the winding number ~ 1/kFarInRadii²).
 constexpr double kFarInRadii = 3.0;
-// A ball whose centre has a smaller winding number lies outside the shape.
-constexpr double kInside = 0.5;
+// A ball whose centre has a smaller winding number lies outside the shape: ~1 inside, ~0
+// outside, and ~½ on the inner side of a thin part that smoothing folded onto one sheet.
+constexpr double kInside = 0.25;
+// Outside balls are rejected on data whose enclosure is at least this: smoothed closed shapes
+// with thin parts read well below kEnclosed, single-view scans lower still.
+constexpr double kRejectionEnclosure = 0.3;
 // Smallest radius of a ball, relative to the diagonal.
 constexpr double kMinRadius = 1e-6;
 }  // namespace
@@ -74,7 +78,7 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
   }
   // Inside and outside mean something only for data that encloses a volume.
   enclosure_ = measure_enclosure();
-  reject_outside_ = options_.reject_outside && enclosure_ >= kEnclosed;
+  reject_outside_ = options_.reject_outside && enclosure_ >= kRejectionEnclosure;
 }
 
 double MedialProjector::radius_limit(const Vec3& p, const Vec3& inward) const {

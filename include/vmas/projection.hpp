@@ -38,8 +38,9 @@ class MedialProjector {
   // How well the data encloses a volume: the median generalized winding number at the centres
   // of the medial balls of evenly spread vertices (measured once, at construction). About 1 for a
   // closed, consistently oriented surface; around 0.5 or less for a single-view scan, an open
-  // mesh or one whose faces disagree in orientation. When it is at least kEnclosed and the options
-  // ask for it, balls whose centre has a winding number below ½ lie outside and are rejected.
+  // mesh or one whose faces disagree in orientation. When the options ask for it and the data is
+  // not far from enclosed, balls whose centre has a winding number below ¼ lie outside and are
+  // rejected.
   double enclosure() const { return enclosure_; }
   static constexpr double kEnclosed = 0.8;
 
