@@ -185,13 +185,9 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
   const auto cloud = centred_cloud(points, centroid);
   // The surface is fitted on a voxel grid's centroids: a bounded number of samples per fit
   // whatever the density, and the voxel averages are already less noisy.
-  Vec3 low = points.front(), high = low;
-  for (const Vec3& p : points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
+  const Box box = bounding_box(points);
   const float voxel = static_cast<float>(
-      std::max(radius / kFitsPerRadius, (high - low).maxCoeff() / kMaxVoxelsPerAxis));
+      std::max(radius / kFitsPerRadius, box.sizes().maxCoeff() / kMaxVoxelsPerAxis));
   pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setInputCloud(cloud);
   grid.setLeafSize(voxel, voxel, voxel);

@@ -17,7 +17,6 @@
 namespace vmas {
 namespace {
 
-using Box = Eigen::AlignedBox3d;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 // Boundary samples around which the medial -> surface maximum is refined, per round.

@@ -178,15 +178,14 @@ namespace {
 // (georeferenced data), or beyond float's range.
 bool needs_double(const std::vector<Sphere>& spheres) {
   if (spheres.empty()) return false;
-  Vec3 low = spheres.front().center, high = low;
+  Box centers;
   double largest = 0.0, widest = 0.0;
   for (const Sphere& s : spheres) {
-    low = low.cwiseMin(s.center);
-    high = high.cwiseMax(s.center);
+    centers.extend(s.center);
     largest = std::max({largest, s.center.cwiseAbs().maxCoeff(), s.radius});
     widest = std::max(widest, s.radius);
   }
-  const double extent = std::max((high - low).norm(), widest);
+  const double extent = std::max(diagonal_of(centers), widest);
   return largest > 1e30 || largest > 1e3 * extent;
 }
 

@@ -12,16 +12,6 @@ namespace vmas {
 
 namespace {
 
-double diagonal_of(const std::vector<Vec3>& points) {
-  if (points.empty()) return 0.0;
-  Vec3 low = points.front(), high = low;
-  for (const Vec3& p : points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  return (high - low).norm();
-}
-
 template <typename T>
 void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
   if (values.empty()) return;
@@ -55,13 +45,9 @@ constexpr double kMaxOffsetInDiagonals = 16.0, kSizeRange = 1e3;
 Frame normalize(std::vector<Vec3>& points) {
   Frame frame;
   if (points.empty()) return frame;
-  Vec3 low = points.front(), high = low;
-  for (const Vec3& p : points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  const Vec3 center = 0.5 * (low + high);
-  const double diagonal = (high - low).norm();
+  const Box box = bounding_box(points);
+  const Vec3 center = box.center();
+  const double diagonal = diagonal_of(box);
   const bool offset = center.norm() > kMaxOffsetInDiagonals * diagonal;
   const bool outsized = diagonal > 0.0 && (diagonal > kSizeRange || diagonal < 1.0 / kSizeRange);
   if (!offset && !outsized) return frame;
@@ -108,7 +94,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     keep_only(surface.points, report.kept);
     keep_only(surface.normals, report.kept);
   }
-  report.diagonal = diagonal_of(surface.points);
+  report.diagonal = diagonal_of(bounding_box(surface.points));
 
   bool noisy = false;
   if (options.denoise == PrepareOptions::Denoise::Auto &&

@@ -50,14 +50,10 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
       tree_(shape.points),
       cos_denoise_(std::cos(options.denoise_angle_deg * M_PI / 180.0)) {
   options_.validate();
-  box_low_ = box_high_ = shape.points.front();
-  for (const Vec3& p : shape.points) {
-    box_low_ = box_low_.cwiseMin(p);
-    box_high_ = box_high_.cwiseMax(p);
-  }
+  const Box box = bounding_box(shape.points);
   const Vec3 margin = Vec3::Constant(kBoxMargin * shape.diagonal);
-  box_low_ -= margin;
-  box_high_ += margin;
+  box_low_ = box.min() - margin;
+  box_high_ = box.max() + margin;
   const VertexBlocks& blocks = shape.blocks;
   dipoles_.resize(blocks.size());
   for (int b = 0; b < blocks.size(); ++b) {

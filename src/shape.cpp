@@ -162,12 +162,7 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   Shape shape;
   shape.points = input.points;
   shape.is_mesh = input.is_mesh();
-  Vec3 low = input.points.front(), high = low;
-  for (const Vec3& p : input.points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  shape.diagonal = (high - low).norm();
+  shape.diagonal = diagonal_of(bounding_box(input.points));
   if (!(shape.diagonal > 0.0)) throw InvalidInput("all points coincide");
   if (shape.is_mesh)
     build_mesh_attributes(input, shape);

@@ -199,12 +199,7 @@ inline std::vector<Vec3> with_noise(std::vector<Vec3> points, double sigma, unsi
 }
 
 inline double bounding_diagonal(const std::vector<Vec3>& points) {
-  Vec3 low = points.front(), high = low;
-  for (const Vec3& p : points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  return (high - low).norm();
+  return diagonal_of(bounding_box(points));
 }
 
 }  // namespace vmas::test

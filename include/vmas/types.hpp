@@ -1,6 +1,7 @@
 #pragma once
 // Plain data shared by every stage: the input surface and the medial mesh.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <vector>
 
@@ -12,6 +13,17 @@ struct Sphere {
   Vec3 center = Vec3::Zero();
   double radius = 0.0;
 };
+
+using Box = Eigen::AlignedBox3d;  // axis-aligned bounding box
+
+inline Box bounding_box(const std::vector<Vec3>& points) {
+  Box box;
+  for (const Vec3& p : points) box.extend(p);
+  return box;
+}
+
+// Length of the bounding box's diagonal; 0 for no points.
+inline double diagonal_of(const Box& box) { return box.isEmpty() ? 0.0 : box.diagonal().norm(); }
 
 // The input shape as read from disk: a triangle mesh when `faces` is non-empty, otherwise a
 // point cloud. `normals` is empty (none given) or has one unit normal per point.

@@ -16,7 +16,7 @@
 
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
-#include "vmas/normals.hpp"
+#include "vmas/prepare.hpp"
 #include "vmas/skeletonizer.hpp"
 
 namespace {
@@ -58,14 +58,15 @@ void check_medial_mesh(const vmas::MedialMesh& mesh) {
 
 void skeletonize(vmas::SurfaceInput input) {
   try {
-    if (!input.has_normals() && !input.is_mesh())
-      input.normals = vmas::estimate_normals(input.points, {});
+    // As the CLI does: outliers, noise, normals, then the run.
+    const vmas::PrepareReport prepared = vmas::prepare_surface(input, {});
     vmas::SkeletonizerOptions options;
     options.target_spheres = 4;
     options.max_iterations = 20;
+    vmas::adapt_shrinking_ball(prepared, options.shrinking_ball);
     vmas::Skeletonizer skeletonizer(vmas::build_shape(input, {}), options);
     skeletonizer.run();
-    const vmas::MedialMesh mesh = skeletonizer.medial_mesh();
+    const vmas::MedialMesh mesh = prepared.frame.to_input(skeletonizer.medial_mesh());
     check(mesh.spheres.size() <= 4, "more spheres than asked");
     check_medial_mesh(mesh);
     for (const vmas::Sphere& sphere : mesh.spheres) check(sphere.radius >= 0.0, "negative radius");
