@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "vmas/error.hpp"
@@ -158,21 +159,29 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options) {
 
 std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options) {
   options.validate();
-  std::vector<int> kept;
-  if (static_cast<int>(points.size()) <= 2 * options.outlier_k) {
-    kept.resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) kept[i] = static_cast<int>(i);
-    return kept;
-  }
+  // Gross outliers inflate the deviation of the neighbour distances that the filter measures
+  // them against, so that those nearer the surface survive a pass; passes repeat while they
+  // still remove a noticeable share. A clean cloud stops after one.
+  constexpr int kMaxPasses = 4;
+  constexpr double kNoticeable = 0.005;
+  std::vector<int> kept(points.size());
+  std::iota(kept.begin(), kept.end(), 0);
   Vec3 centroid;
-  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
-  filter.setInputCloud(centred_cloud(points, centroid));
-  filter.setMeanK(options.outlier_k);
-  filter.setStddevMulThresh(options.outlier_deviations);
-  pcl::Indices indices;
-  filter.filter(indices);
-  kept.assign(indices.begin(), indices.end());
-  std::sort(kept.begin(), kept.end());
+  auto cloud = centred_cloud(points, centroid);
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    if (static_cast<int>(kept.size()) <= 2 * options.outlier_k) break;
+    pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
+    filter.setInputCloud(cloud);
+    filter.setIndices(std::make_shared<pcl::Indices>(kept.begin(), kept.end()));
+    filter.setMeanK(options.outlier_k);
+    filter.setStddevMulThresh(options.outlier_deviations);
+    pcl::Indices indices;
+    filter.filter(indices);
+    const std::size_t removed = kept.size() - indices.size();
+    kept.assign(indices.begin(), indices.end());
+    std::sort(kept.begin(), kept.end());
+    if (removed < kNoticeable * static_cast<double>(points.size())) break;
+  }
   return kept;
 }
 

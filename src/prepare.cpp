@@ -38,22 +38,23 @@ double deviation_from(const std::vector<Vec3>& points, const std::vector<Vec3>& 
   return *middle / 0.6745;
 }
 
-// Coordinates are moved to the centre when the offset exceeds this many diagonals, and scaled
-// when the diagonal is outside [1 / kSizeRange, kSizeRange].
-constexpr double kMaxOffsetInDiagonals = 16.0, kSizeRange = 1e3;
+// Coordinates are moved to the centre when the offset exceeds this many times the longest side
+// of the bounding box, and scaled when that side is outside [1 / kSizeRange, kSizeRange].
+constexpr double kMaxOffsetInSides = 16.0, kSizeRange = 1e3;
 
 Frame normalize(std::vector<Vec3>& points) {
   Frame frame;
   if (points.empty()) return frame;
   const Box box = bounding_box(points);
   const Vec3 center = box.center();
-  const double diagonal = diagonal_of(box);
-  const bool offset = center.norm() > kMaxOffsetInDiagonals * diagonal;
-  const bool outsized = diagonal > 0.0 && (diagonal > kSizeRange || diagonal < 1.0 / kSizeRange);
+  // The longest side, not the diagonal: its square would underflow for coordinates ~1e-300.
+  const double size = box.sizes().maxCoeff();
+  const bool offset = center.cwiseAbs().maxCoeff() > kMaxOffsetInSides * size;
+  const bool outsized = size > 0.0 && (size > kSizeRange || size < 1.0 / kSizeRange);
   if (!offset && !outsized) return frame;
   if (offset) frame.origin = center;
   // A power of two scales without rounding.
-  if (outsized) frame.scale = std::ldexp(1.0, std::ilogb(diagonal));
+  if (outsized) frame.scale = std::ldexp(1.0, std::ilogb(size));
   for (Vec3& p : points) p = (p - frame.origin) / frame.scale;
   return frame;
 }

@@ -38,7 +38,8 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
 
 // Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
 // outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
-// mean), ascending. Clouds too small for it keep every point.
+// mean), ascending; repeated (at most 4 passes) while a pass removes more than 0.5 % of the
+// points. Clouds too small for it keep every point.
 std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);
 
 // Projects every point onto the local quadric surface of PCL's MovingLeastSquares with support
