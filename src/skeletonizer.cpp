@@ -48,6 +48,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Re-seeding rounds for tiny clusters after each final re-partition.
+constexpr int kFinalReseeds = 4;
+
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -250,7 +253,13 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
   // (paper Fig. 5: a small λ fits the features) and the projection keeps them medial. Later
   // rounds re-partition first, so that the vertices follow the moved spheres.
   for (int round = 0; round < options_.final_rounds; ++round) {
-    if (round > 0) repartition();
+    if (round > 0) {
+      repartition();
+      // As in step(), but until every cluster is big enough (a few tries): no later step moves
+      // a sphere left with a handful of vertices, and it would end up unconnected.
+      for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
+        repartition();
+    }
     fit_and_project(options_.final_lambda);
     refresh_errors(true);
   }
