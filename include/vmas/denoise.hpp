@@ -27,7 +27,9 @@ struct DenoiseOptions {
   // whose fine relief reads as noise (Table 1's armadillo: 0.15, merged bunny scan: 0.27, any
   // of the benchmark's noisy inputs: 0.6 and more).
   double clean_fraction_of_spacing = 0.25;
-  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
+  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations ...
+  double max_mls_radius = 0.03;       // ... but at most this fraction of the diagonal: wider
+                                      // supports fold thin parts (wings, legs, walls) into one
   int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
   double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
   void validate() const;              // throws InvalidOption
