@@ -146,8 +146,6 @@ void DenoiseOptions::validate() const {
     throw InvalidOption("clean fraction of the spacing must be in [0, 100]");
   if (!(mls_radius_in_sigmas > 0.0 && mls_radius_in_sigmas <= 100.0))
     throw InvalidOption("MLS radius must be in (0, 100] noise deviations");
-  if (!(max_mls_radius > 0.0 && max_mls_radius <= 1.0))
-    throw InvalidOption("largest MLS radius must be in (0, 1] of the diagonal");
   if (outlier_k < 2 || outlier_k > 200)
     throw InvalidOption("outlier k must be between 2 and 200 (got " + std::to_string(outlier_k) +
                         ")");

@@ -114,9 +114,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     // The support must hold enough samples for a quadric fit even when the noise is far below
     // the spacing.
     const auto radius_for = [&](double sigma) {
-      return std::max(std::min(options.noise.mls_radius_in_sigmas * sigma,
-                               options.noise.max_mls_radius * report.diagonal),
-                      3.0 * report.noise.spacing);
+      return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
     };
     std::vector<Vec3> smoothed = surface.points;
     report.mls_radius = radius_for(report.noise.sigma);

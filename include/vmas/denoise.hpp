@@ -28,9 +28,7 @@ struct DenoiseOptions {
   // disturb the shrinking balls (the merged bunny, 0.27: smoothing only blurred its registration
   // seams, ε against the scan 3.5 → 5.6 %). The benchmark's noisy inputs read 0.6 and more.
   double clean_fraction_of_spacing = 0.35;
-  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations ...
-  double max_mls_radius = 0.03;       // ... but at most this fraction of the diagonal: wider
-                                      // supports fold thin parts (wings, legs, walls) into one
+  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
   int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
   double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
   void validate() const;              // throws InvalidOption
