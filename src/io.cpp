@@ -138,10 +138,12 @@ class LineTokenizer {
   std::size_t line_;
 };
 
-// Converts a stored index to int if it is an integer in [0, count).
+// Converts a stored index to int if it is an integer in [0, count) that an int holds (a header
+// may announce more elements than an int can index).
 bool to_index(double value, std::size_t count, int& index) {
-  if (!(value >= 0.0 && value < static_cast<double>(count)) || value != std::floor(value))
-    return false;
+  const double end =
+      static_cast<double>(std::min<std::size_t>(count, std::numeric_limits<int>::max()));
+  if (!(value >= 0.0 && value < end) || value != std::floor(value)) return false;
   index = static_cast<int>(value);
   return true;
 }
