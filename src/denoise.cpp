@@ -25,13 +25,6 @@ namespace vmas {
 
 namespace {
 
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
 // RMS distance of `points[indices]` to their least-squares quadric height field over the PCA
 // plane, with the six fitted coefficients taken out of the degrees of freedom. NaN when the
 // neighbourhood is degenerate.
@@ -106,7 +99,7 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
     tree.k_nearest(points[i], 2, indices, squared_distances);
     spacings.push_back(std::sqrt(squared_distances.back()));
   }
-  estimate.spacing = median_of(spacings);
+  estimate.spacing = median(spacings);
 
   std::vector<Vec3> subset;
   for (int i = 0; i < count; i += std::max(1, count / kSubset)) subset.push_back(points[i]);
@@ -134,9 +127,9 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
     residuals.erase(std::remove_if(residuals.begin(), residuals.end(),
                                    [](double r) { return !std::isfinite(r); }),
                     residuals.end());
-    estimate.sigma = median_of(residuals);
+    estimate.sigma = median(residuals);
     estimate.neighbours = width;
-    if (median_of(radii) >= kRadiusInResiduals * estimate.sigma || width == subset_count) break;
+    if (median(radii) >= kRadiusInResiduals * estimate.sigma || width == subset_count) break;
   }
   return estimate;
 }

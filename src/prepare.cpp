@@ -33,9 +33,7 @@ constexpr double kMaxBallTolerance = 0.05;
 double deviation_from(const std::vector<Vec3>& points, const std::vector<Vec3>& smoothed) {
   std::vector<double> distances(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) distances[i] = (points[i] - smoothed[i]).norm();
-  const auto middle = distances.begin() + distances.size() / 2;
-  std::nth_element(distances.begin(), middle, distances.end());
-  return *middle / 0.6745;
+  return median(std::move(distances)) / 0.6745;
 }
 
 // Coordinates are moved to the centre when the offset exceeds this many times the longest side

@@ -124,10 +124,7 @@ double MedialProjector::measure_enclosure() const {
     if (ball.radius > kMinProbeRadiusInSpacings * std::sqrt(shape_.area[vertex]))
       winding[c] = winding_number(ball.center);
   }
-  if (winding.empty()) return 0.0;
-  const auto middle = winding.begin() + winding.size() / 2;
-  std::nth_element(winding.begin(), middle, winding.end());
-  return *middle;
+  return median(std::move(winding));
 }
 
 Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {

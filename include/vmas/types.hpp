@@ -2,6 +2,7 @@
 // Plain data shared by every stage: the input surface and the medial mesh.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -24,6 +25,14 @@ inline Box bounding_box(const std::vector<Vec3>& points) {
 
 // Length of the bounding box's diagonal; 0 for no points.
 inline double diagonal_of(const Box& box) { return box.isEmpty() ? 0.0 : box.diagonal().norm(); }
+
+// The middle value (the upper one of an even count); 0 for none.
+inline double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
 
 // The input shape as read from disk: a triangle mesh when `faces` is non-empty, otherwise a
 // point cloud. `normals` is empty (none given) or has one unit normal per point.
