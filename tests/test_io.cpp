@@ -474,6 +474,7 @@ TEST(IoClean, CountsOnCraftedMesh) {
   EXPECT_EQ(mesh.points, points);
   const std::vector<std::array<int, 3>> faces = {{0, 1, 2}, {0, 1, 3}};
   EXPECT_EQ(mesh.faces, faces);
+  EXPECT_EQ(report.kept, (std::vector<int>{0, 1, 2, 7}));
 }
 
 TEST(IoClean, RejectsInfiniteAndOverflowingCoordinates) {
@@ -506,6 +507,7 @@ TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndDropsZeroNormals) {
   const std::vector<Vec3> normals = {Vec3(0, 0, 1), Vec3(0, 1, 0)};
   EXPECT_EQ(cloud.points, points);
   EXPECT_EQ(cloud.normals, normals);
+  EXPECT_EQ(report.kept, (std::vector<int>{0, 1}));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -6,20 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "vmas/clean.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
-
-// What read_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
-struct CleanReport {
-  std::size_t non_finite_points = 0;  // points with a NaN coordinate or a NaN/Inf normal (dropped)
-  std::size_t duplicate_points = 0;   // points at the same coordinates as an earlier one (merged)
-  std::size_t degenerate_faces = 0;   // faces with a repeated or dropped vertex, or zero area
-  std::size_t unused_points = 0;      // mesh vertices referenced by no face (dropped)
-  std::size_t total() const {
-    return non_finite_points + duplicate_points + degenerate_faces + unused_points;
-  }
-};
 
 // Reads a mesh or a point cloud, chosen by extension (case-insensitive):
 //   .off (OFF/NOFF/COFF, comments; a file with no faces is a cloud), .ply (ASCII or binary,
@@ -33,15 +23,6 @@ struct CleanReport {
 // clean_surface rejects, or holds no usable point. Memory stays proportional to the file's size
 // whatever its header announces.
 SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
-
-// Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,
-// merges exact duplicates (remapping faces), drops degenerate faces and, for meshes,
-// unreferenced vertices. Normals are renormalised; zero normals count as non-finite, so such
-// points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
-// points stay in input order, each duplicate group keeping its first point.
-// Throws InvalidInput if `normals` is neither empty nor one per point, or if a coordinate is
-// infinite or beyond +-1e150 (squared distances would overflow).
-CleanReport clean_surface(SurfaceInput& surface);
 
 // Writes a mesh or cloud: .ply (binary little-endian, float coordinates, with normals if
 // present), .off (exact doubles; NOFF for clouds with normals, a mesh's normals are not written),

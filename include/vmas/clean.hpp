@@ -1,0 +1,35 @@
+#pragma once
+// The cleaning stage, the first every input goes through (the readers call it; so does the
+// one-call vmas::skeletonize for data that did not come from a file).
+#include <cstddef>
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+// Coordinates beyond this magnitude are rejected: squared distances would overflow.
+constexpr double kMaxCoordinate = 1e150;
+
+// What clean_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
+struct CleanReport {
+  std::size_t non_finite_points = 0;  // points with a NaN coordinate or a NaN/Inf normal (dropped)
+  std::size_t duplicate_points = 0;   // points at the same coordinates as an earlier one (merged)
+  std::size_t degenerate_faces = 0;   // faces with a repeated or dropped vertex, or zero area
+  std::size_t unused_points = 0;      // mesh vertices referenced by no face (dropped)
+  std::vector<int> kept;  // index, in the surface as given, of every point kept (ascending)
+  std::size_t total() const {
+    return non_finite_points + duplicate_points + degenerate_faces + unused_points;
+  }
+};
+
+// Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,
+// merges exact duplicates (remapping faces), drops degenerate faces and, for meshes,
+// unreferenced vertices. Normals are renormalised; zero normals count as non-finite, so such
+// points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
+// points stay in input order, each duplicate group keeping its first point.
+// Throws InvalidInput if `normals` is neither empty nor one per point, or if a coordinate is
+// infinite or beyond +-1e150 (squared distances would overflow).
+CleanReport clean_surface(SurfaceInput& surface);
+
+}  // namespace vmas

@@ -1,0 +1,109 @@
+// The cleaning stage: what every input goes through before anything else.
+#include "vmas/clean.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "vmas/error.hpp"
+
+namespace vmas {
+
+CleanReport clean_surface(SurfaceInput& surface) {
+  CleanReport report;
+  const std::size_t count = surface.points.size();
+  const bool with_normals = surface.has_normals();
+  if (with_normals && surface.normals.size() != count)
+    throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
+                       std::to_string(count) + " points");
+  const auto& points = surface.points;
+  using Face = std::array<int, 3>;
+
+  std::vector<std::size_t> usable;
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int c = 0; c < 3; ++c)
+      if (std::isinf(points[i][c]) || std::abs(points[i][c]) > kMaxCoordinate) {
+        std::ostringstream problem;
+        problem << "point " << i << ": coordinate " << points[i][c]
+                << " out of range (must be finite and at most 1e150 in magnitude)";
+        throw InvalidInput(problem.str());
+      }
+    const bool finite = points[i].allFinite() &&
+                        (!with_normals ||
+                         (surface.normals[i].allFinite() && surface.normals[i].stableNorm() > 0.0));
+    if (finite)
+      usable.push_back(i);
+    else
+      ++report.non_finite_points;
+  }
+
+  // Sorting by coordinates, then by index, makes the first occurrence of each point its
+  // representative, independently of any hashing.
+  constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> representative(count, kDropped);
+  std::sort(usable.begin(), usable.end(), [&](std::size_t a, std::size_t b) {
+    for (int c = 0; c < 3; ++c)
+      if (points[a][c] != points[b][c]) return points[a][c] < points[b][c];
+    return a < b;
+  });
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = -low;
+  for (std::size_t k = 0; k < usable.size(); ++k) {
+    const std::size_t i = usable[k];
+    const bool duplicate = k > 0 && points[i] == points[usable[k - 1]];
+    representative[i] = duplicate ? representative[usable[k - 1]] : i;
+    if (duplicate) ++report.duplicate_points;
+    low = low.cwiseMin(points[i]);
+    high = high.cwiseMax(points[i]);
+  }
+
+  const double min_area = usable.empty() ? 0.0 : 1e-14 * (high - low).squaredNorm();
+  std::vector<std::array<std::size_t, 3>> faces;
+  std::vector<bool> referenced(count, false);
+  for (const Face& face : surface.faces) {
+    std::array<std::size_t, 3> corners{};
+    bool degenerate = false;
+    for (int c = 0; c < 3; ++c) {
+      corners[c] = face[c] >= 0 && static_cast<std::size_t>(face[c]) < count
+                       ? representative[face[c]]
+                       : kDropped;
+      degenerate = degenerate || corners[c] == kDropped;
+    }
+    degenerate = degenerate || corners[0] == corners[1] || corners[1] == corners[2] ||
+                 corners[0] == corners[2] ||
+                 0.5 * (points[corners[1]] - points[corners[0]])
+                             .cross(points[corners[2]] - points[corners[0]])
+                             .norm() <
+                     min_area;
+    if (degenerate) {
+      ++report.degenerate_faces;
+      continue;
+    }
+    faces.push_back(corners);
+    for (std::size_t corner : corners) referenced[corner] = true;
+  }
+
+  const bool mesh = surface.is_mesh();
+  std::vector<int> new_index(count, -1);
+  SurfaceInput cleaned;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (representative[i] != i) continue;
+    if (mesh && !referenced[i]) {
+      ++report.unused_points;
+      continue;
+    }
+    new_index[i] = static_cast<int>(cleaned.points.size());
+    report.kept.push_back(static_cast<int>(i));
+    cleaned.points.push_back(points[i]);
+    if (with_normals)
+      cleaned.normals.push_back(surface.normals[i] / surface.normals[i].stableNorm());
+  }
+  for (const auto& corners : faces)
+    cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});
+  surface = std::move(cleaned);
+  return report;
+}
+
+}  // namespace vmas
