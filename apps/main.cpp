@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "vmas/error.hpp"
+#include "vmas/vmas.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -28,8 +29,10 @@ constexpr const char* kUsage =
     "vmas: skeletonize a shape by variational medial axis sampling\n"
     "\n"
     "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
+    "       vmas skeletonize INPUT... --output-dir DIR [options]\n"
     "       vmas eval SHAPE MEDIAL [--json]\n"
-    "       vmas COMMAND --help\n";
+    "       vmas COMMAND --help\n"
+    "       vmas --version\n";
 
 }  // namespace
 
@@ -37,6 +40,10 @@ int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     std::cout << kUsage;
     return argc < 2 ? 2 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    std::cout << "vmas " << vmas::version() << "\n";
+    return 0;
   }
   const std::string command = argv[1];
   try {
@@ -49,7 +56,8 @@ int main(int argc, char** argv) {
               << " --help)\n";
     return 2;
   } catch (const vmas::InvalidOption& e) {
-    std::cerr << "vmas " << command << ": " << e.what() << "\n";
+    // Named as typed on the command line: "--lambda must be ...".
+    std::cerr << "vmas " << command << ": " << (e.option().empty() ? "" : "--") << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "vmas " << command << ": " << e.what() << "\n";

@@ -1,51 +1,48 @@
-// `vmas skeletonize`: input shape → medial mesh (PLY or .ma), optionally per-point labels.
+// `vmas skeletonize`: input shapes → medial meshes (PLY or .ma), optionally per-point labels.
+// One input gives a full summary; several (or --output-dir) a line per file.
 #include <unistd.h>
 
-#include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
-#include <iomanip>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "vmas/error.hpp"
+#include "vmas/eval.hpp"
 #include "vmas/io.hpp"
-#include "vmas/prepare.hpp"
-#include "vmas/skeletonizer.hpp"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "vmas/vmas.hpp"
 
 namespace po = boost::program_options;
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
 
 namespace vmas::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Fails before any work is done when an output cannot possibly be written (a usage error).
-void check_output_option(const std::string& path, void (*check)(const std::string&)) {
-  try {
-    check(path);
-  } catch (const IoError& e) {
-    throw InvalidOption(e.what());
-  }
-}
-
 const char* kDescription =
     "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
+    "       vmas skeletonize INPUT... --output-dir DIR [--format ply|ma] [options]\n"
+    "       vmas skeletonize --inputs LIST --output-dir DIR [options]\n"
     "\n"
     "Computes a medial mesh (spheres, edges, triangles) of INPUT, a triangle mesh or point\n"
     "cloud (.off .ply .obj .xyz .txt .pcd), by variational medial axis sampling. OUTPUT is a\n"
-    "PLY (vertex x y z radius, edge, face) or a .ma file (Q-MAT format).\n"
+    "PLY (vertex x y z radius, edge, face) or a .ma file (Q-MAT format). With several inputs\n"
+    "(or --output-dir) each INPUT gives DIR/NAME.ply; a file that fails does not stop the\n"
+    "others, one line (or JSON line) per file is printed, and the exit code is 1 if any failed.\n"
+    "Exit codes: 0 success, 1 a run failed (unreadable file, unusable data), 2 usage error.\n"
     "\n"
     "options";
 
@@ -62,167 +59,295 @@ PrepareOptions::Denoise parse_denoise(const std::string& text, double& sigma) {
     used = 0;
   }
   if (used == 0 || used != number.size())
-    throw InvalidOption("--denoise must be auto, off or a noise deviation such as 0.005 or 0.5% "
-                        "(got '" + text + "')");
+    throw InvalidOption("denoise",
+                        "must be auto, off or a noise deviation such as 0.005 or 0.5% "
+                        "(got '" +
+                            text + "')");
   if (percent) sigma /= 100.0;
   return PrepareOptions::Denoise::Fixed;
 }
 
-std::string percent_of(double length, double diagonal) {
+// Lengths in % of the diagonal, two significant digits; seconds to the millisecond.
+double percent_of(double length, double diagonal) {
+  return diagonal > 0.0 ? std::round(1e4 * length / diagonal) / 1e2 : 0.0;
+}
+double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
+
+std::string text_of(double value, const char* format = "%.3g") {
   char text[32];
-  std::snprintf(text, sizeof text, "%.2g %%", diagonal > 0.0 ? 100.0 * length / diagonal : 0.0);
+  std::snprintf(text, sizeof text, format, value);
   return text;
 }
 
-// Input index of every prepared point's label; -1 for points dropped on the way.
-std::vector<int> labels_of_input(const std::vector<int>& labels, const std::vector<int>& kept,
-                                 std::size_t input_size) {
-  std::vector<int> result(input_size, -1);
-  for (std::size_t i = 0; i < kept.size(); ++i) result[kept[i]] = labels[i];
-  return result;
+struct Job {
+  std::string input, output, labels;
+};
+
+struct Settings {
+  Options options;
+  bool json = false, eval = false, quiet = false;
+};
+
+// The run's summary as data: printed as JSON, or read by print_summary().
+json summarize(const Job& job, const SurfaceInput& input, const Result& result, double read_seconds,
+               double write_seconds, const EvalResult* eval) {
+  const PrepareReport& prepared = result.prepare;
+  const double diagonal = prepared.diagonal * prepared.frame.scale;
+  const std::string normals = input.is_mesh()              ? "from faces"
+                              : prepared.normals_estimated ? "estimated"
+                              : prepared.normals_oriented  ? "re-oriented"
+                                                           : "given";
+  json summary = {{"vmas", version()},
+                  {"input", job.input},
+                  {"output", job.output},
+                  {"points", input.points.size()},
+                  {"faces", input.faces.size()},
+                  {"normals", normals},
+                  {"cleaned",
+                   {{"non_finite_points", result.clean.non_finite_points},
+                    {"duplicate_points", result.clean.duplicate_points},
+                    {"degenerate_faces", result.clean.degenerate_faces},
+                    {"unused_vertices", result.clean.unused_points}}},
+                  {"outliers", prepared.outliers},
+                  {"noise",
+                   {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
+                    {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
+                    {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
+                    {"smoothed", prepared.mls_radius > 0.0},
+                    {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
+                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
+                    {"faces_dropped", prepared.faces_dropped}}},
+                  {"diagonal", diagonal},
+                  {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
+                  {"components",
+                   {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
+                  {"spheres", result.medial_mesh.spheres.size()},
+                  {"edges", result.medial_mesh.edges.size()},
+                  {"medial_faces", result.medial_mesh.faces.size()},
+                  {"iterations", result.summary.iterations},
+                  {"converged", result.summary.converged},
+                  {"stopped_by_max_iterations", result.summary.hit_max_iterations},
+                  {"total_error", result.summary.error}};
+  json warnings = json::array();
+  for (const Warning& w : result.warnings)
+    warnings.push_back({{"code", w.code}, {"message", w.message}});
+  summary["warnings"] = warnings;
+  if (eval)
+    summary["eval"] = {
+        {"hausdorff_percent", percent_of(eval->hausdorff, eval->diagonal)},
+        {"surface_to_medial_max_percent", percent_of(eval->surface_to_medial_max, eval->diagonal)},
+        {"medial_to_surface_max_percent", percent_of(eval->medial_to_surface_max, eval->diagonal)}};
+  const Timings& t = result.seconds;
+  summary["seconds"] = {{"read", rounded(read_seconds)},
+                        {"clean", rounded(t.clean)},
+                        {"prepare", rounded(t.prepare)},
+                        {"shape", rounded(t.shape)},
+                        {"partition", rounded(t.partition)},
+                        {"update", rounded(t.update)},
+                        {"projection", rounded(t.projection)},
+                        {"split", rounded(t.split)},
+                        {"connectivity", rounded(t.connectivity)},
+                        {"write", rounded(write_seconds)},
+                        {"total", rounded(read_seconds + t.total + write_seconds)}};
+  return summary;
 }
 
-// Reads, skeletonizes and writes, printing the summary unless `quiet`.
-void run_skeletonize(const std::string& input, const std::string& output,
-                     const std::string& labels_path, SkeletonizerOptions options,
-                     const ShapeOptions& shape_options, const PrepareOptions& prepare_options,
-                     bool quiet) {
-  const bool show_progress = !quiet && isatty(fileno(stderr));
-  const auto start = Clock::now();
-  CleanReport report;
-  SurfaceInput surface = read_surface(input, &report);
-  const std::size_t read_points = surface.points.size();
-  const double read_time = seconds_since(start);
-  if (!quiet) {
-    std::cout << "input " << input << ": " << surface.points.size() << " points, "
-              << (surface.is_mesh() ? std::to_string(surface.faces.size()) + " faces"
-                                    : std::string("point cloud"))
-              << (surface.has_normals() || surface.is_mesh() ? "" : ", no normals") << "\n";
-    if (report.total() > 0)
-      std::cout << "cleaned: removed " << report.non_finite_points << " non-finite points, "
-                << report.duplicate_points << " duplicates, " << report.degenerate_faces
-                << " degenerate faces, " << report.unused_points << " unused vertices\n";
-  }
-  const PrepareReport prepared = prepare_surface(surface, prepare_options);
-  adapt_shrinking_ball(prepared, options.shrinking_ball);
-  if (!quiet) {
-    if (prepared.outliers > 0)
-      std::cout << "outliers: removed " << prepared.outliers << " points\n";
-    if (prepare_options.denoise != PrepareOptions::Denoise::Off)
-      std::cout << "noise: ~" << percent_of(prepared.noise.sigma, prepared.diagonal)
-                << " of the diagonal (point spacing "
-                << percent_of(prepared.noise.spacing, prepared.diagonal) << ")"
-                << (prepared.mls_radius > 0.0
-                        ? "; smoothed (MLS radius " +
-                              percent_of(prepared.mls_radius, prepared.diagonal) + ", left ~" +
-                              percent_of(prepared.residual_noise, prepared.diagonal) + ")"
-                        : std::string("; not smoothed"))
-                << "\n";
-    if (prepared.faces_dropped)
-      std::cout << "faces: dropped (the smoothed vertices go on as a point cloud)\n";
-    if (prepared.normals_estimated)
-      std::cout << "normals: estimated and oriented (k=" << prepare_options.normals.k << ")\n";
-    else if (prepared.normals_oriented)
-      std::cout << "normals: given ones re-oriented (k=" << prepare_options.normals.k << ")\n";
-  }
-  const double prepare_time = prepared.seconds;
-  if (!quiet)
-    std::cout << "parameters: "
-              << (options.target_spheres > 0 ? "spheres=" + std::to_string(options.target_spheres)
-                                             : "error=" + std::to_string(options.error_threshold))
-              << " lambda=" << options.lambda << " k=" << shape_options.k
-              << " projection=" << (options.project ? "on" : "off")
-              << " ball-tolerance=" << options.shrinking_ball.tolerance
-#ifdef _OPENMP
-              << " threads=" << omp_get_max_threads()
-#endif
+// The summary of a single run, for people.
+void print_summary(const json& s, const Settings& settings) {
+  const json& noise = s["noise"];
+  const json& cleaned = s["cleaned"];
+  std::cout << "input " << s["input"].get<std::string>() << ": " << s["points"] << " points, "
+            << (s["faces"].get<int>() > 0 ? s["faces"].dump() + " faces"
+                                          : std::string("point cloud"))
+            << "\n";
+  const int removed =
+      cleaned["non_finite_points"].get<int>() + cleaned["duplicate_points"].get<int>() +
+      cleaned["degenerate_faces"].get<int>() + cleaned["unused_vertices"].get<int>();
+  if (removed > 0)
+    std::cout << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
+              << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
+              << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
+  if (s["outliers"].get<int>() > 0)
+    std::cout << "outliers: removed " << s["outliers"] << " points\n";
+  if (noise["measured"].get<bool>())
+    std::cout << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
+              << noise["spacing_percent"] << " %)"
+              << (noise["smoothed"].get<bool>()
+                      ? "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() +
+                            " %, left ~" + noise["residual_percent"].dump() + " %)"
+                      : std::string("; not smoothed"))
               << "\n";
-
-  const auto shape_start = Clock::now();
-  Skeletonizer skeletonizer(build_shape(surface, shape_options), options);
-  const double shape_time = seconds_since(shape_start);
-  const RunSummary summary = skeletonizer.run([&](const Progress& p) {
-    if (show_progress)
-      std::fprintf(stderr, "\riteration %d: %d spheres, error %.3e   ", p.iteration, p.spheres,
-                   p.error);
-  });
-  if (show_progress) std::fprintf(stderr, "\n");
-  // The count is a promise: a skeleton with fewer spheres is an error, not a result.
-  if (options.target_spheres > 0 && summary.spheres < options.target_spheres)
-    throw InvalidInput("cannot place " + std::to_string(options.target_spheres) + " spheres on " +
-                       std::to_string(skeletonizer.shape().size()) + " usable points (placed " +
-                       std::to_string(summary.spheres) + "); ask for fewer");
-  // A single-view scan, an open mesh or faces that disagree in orientation have no inside, and
-  // the skeleton of such data is no medial axis.
-  const double enclosure = skeletonizer.projector().enclosure();
-  if (!quiet)
-    std::cout << "enclosure: winding number " << std::setprecision(2) << enclosure
-              << std::setprecision(6) << " inside (1: closed surface)\n";
-  if (enclosure < MedialProjector::kEnclosed)
-    std::cerr << "vmas skeletonize: warning: " << input
-              << " does not enclose a volume (winding number " << std::setprecision(2)
-              << enclosure << std::setprecision(6) << " inside, 1 for a closed surface): open or "
-              << "single-view scan, holes, or inconsistently oriented faces; the skeleton is "
-                 "only an approximation there\n";
-  const auto connectivity_start = Clock::now();
-  const MedialMesh mesh = prepared.frame.to_input(skeletonizer.medial_mesh());
-  const double connectivity_time = seconds_since(connectivity_start);
-  const auto write_start = Clock::now();
-  write_medial_mesh(output, mesh);
-  if (!labels_path.empty())
-    write_labels(labels_path, labels_of_input(skeletonizer.labels(), prepared.kept, read_points));
-  const double write_time = seconds_since(write_start);
-
-  if (!quiet) {
-    const StageTimes& t = skeletonizer.times();
-    std::cout << "result: " << mesh.spheres.size() << " spheres, " << mesh.edges.size()
-              << " edges, " << mesh.faces.size() << " faces; " << summary.iterations
-              << " iterations"
-              << (summary.hit_max_iterations ? " (stopped by --max-iterations)"
-                  : summary.converged        ? ""
+  if (noise["faces_dropped"].get<bool>())
+    std::cout << "faces: dropped (the smoothed vertices go on as a point cloud)\n";
+  const std::string normals = s["normals"];
+  if (normals == "estimated" || normals == "re-oriented")
+    std::cout << "normals: "
+              << (normals == "estimated" ? "estimated and oriented" : "given ones re-oriented")
+              << " (k=" << settings.options.prepare.normals.k << ")\n";
+  const Options& o = settings.options;
+  std::cout << "parameters: "
+            << (o.error > 0.0
+                    ? "error=" + text_of(o.error)
+                    : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
+            << " lambda=" << o.run.lambda << " k=" << o.shape.k
+            << " projection=" << (o.run.project ? "on" : "off") << "\n";
+  std::cout << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)\n";
+  std::cout << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, "
+            << s["medial_faces"] << " faces; " << s["iterations"] << " iterations"
+            << (s["stopped_by_max_iterations"].get<bool>() ? " (stopped by --max-iterations)"
+                : s["converged"].get<bool>()               ? ""
                                              : " (error still changing: stopped after settling)")
-              << ", total error " << summary.error << "\n"
-              << "time (s): total " << seconds_since(start) << " = read " << read_time
-              << ", prepare " << prepare_time << ", shape " << shape_time << ", partition "
-              << t.partition << ", update " << t.update << ", projection " << t.projection
-              << ", split " << t.split << ", connectivity " << connectivity_time << ", write "
-              << write_time << "\n"
-              << "wrote " << output << (labels_path.empty() ? "" : " and " + labels_path) << "\n";
+            << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
+  if (s.contains("eval"))
+    std::cout << "error: epsilon " << s["eval"]["hausdorff_percent"]
+              << " % of the diagonal (surface -> medial "
+              << s["eval"]["surface_to_medial_max_percent"] << " %, medial -> surface "
+              << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
+  const json& t = s["seconds"];
+  std::cout << "time (s): total " << text_of(t["total"], "%.2f");
+  const char* parts[] = {"read",   "clean",      "prepare", "shape",        "partition",
+                         "update", "projection", "split",   "connectivity", "write"};
+  for (const char* part : parts)
+    std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
+  std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";
+}
+
+// Progress on a terminal: one line rewritten in place.
+ProgressCallback terminal_progress(const std::string& input, bool show) {
+  if (!show) return {};
+  return [input](const Progress& p) {
+    switch (p.phase) {
+      case Progress::Phase::Preparing:
+        std::fprintf(stderr, "\r%s: preparing%20s", input.c_str(), "");
+        break;
+      case Progress::Phase::Optimising:
+        if (p.target_spheres > 0)
+          std::fprintf(stderr, "\r%s: spheres %d/%d, iteration %d, error %.3e   ", input.c_str(),
+                       p.spheres, p.target_spheres, p.iteration, p.error);
+        else
+          std::fprintf(stderr, "\r%s: spheres %d, iteration %d, error %.3e   ", input.c_str(),
+                       p.spheres, p.iteration, p.error);
+        break;
+      case Progress::Phase::FinalRefit:
+        std::fprintf(stderr, "\r%s: final refit %d/%d%30s", input.c_str(), p.round, p.rounds, "");
+        break;
+    }
+    return true;
+  };
+}
+
+// Reads, skeletonizes and writes one input; returns its summary. Errors about the data name
+// the file.
+json run_one(const Job& job, const Settings& settings, bool show_progress) {
+  const auto start = Clock::now();
+  CleanReport read_report;
+  const SurfaceInput surface = read_surface(job.input, &read_report);
+  const double read_seconds = seconds_since(start);
+  Result result;
+  try {
+    result = skeletonize(surface, settings.options, terminal_progress(job.input, show_progress));
+  } catch (const InvalidInput& e) {
+    if (show_progress) std::fprintf(stderr, "\n");
+    throw InvalidInput(job.input + ": " + e.what());
   }
+  if (show_progress) std::fprintf(stderr, "\n");
+  // The file's cleaning came first: its counts, and labels indexing the file's points.
+  result.clean = read_report;
+  const auto write_start = Clock::now();
+  write_medial_mesh(job.output, result.medial_mesh);
+  if (!job.labels.empty()) {
+    std::vector<int> labels(read_report.input_points(), -1);
+    for (std::size_t i = 0; i < read_report.kept.size(); ++i)
+      labels[read_report.kept[i]] = result.labels[i];
+    write_labels(job.labels, labels);
+  }
+  const double write_seconds = seconds_since(write_start);
+  for (const Warning& w : result.warnings)
+    std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
+  if (!settings.eval) return summarize(job, surface, result, read_seconds, write_seconds, nullptr);
+  const EvalResult eval = evaluate(surface, result.medial_mesh);
+  return summarize(job, surface, result, read_seconds, write_seconds, &eval);
+}
+
+// Fails before any work is done when an output cannot possibly be written (a usage error).
+void check_output_option(const std::string& path, void (*check)(const std::string&)) {
+  try {
+    check(path);
+  } catch (const IoError& e) {
+    throw InvalidOption(e.what());
+  }
+}
+
+std::vector<std::string> read_input_list(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InvalidOption("--inputs: cannot read " + path);
+  std::vector<std::string> inputs;
+  for (std::string line; std::getline(in, line);) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty() && line[0] != '#') inputs.push_back(line);
+  }
+  return inputs;
+}
+
+// One output per input in `directory`, named after the input; two inputs of the same name
+// would overwrite each other.
+std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::string& directory,
+                            const std::string& format) {
+  if (format != "ply" && format != "ma")
+    throw InvalidOption("--format must be ply or ma (got '" + format + "')");
+  if (!fs::is_directory(directory))
+    throw InvalidOption("--output-dir " + directory + ": no such folder");
+  std::vector<Job> jobs;
+  std::map<std::string, std::string> taken;
+  for (const std::string& input : inputs) {
+    const std::string output =
+        (fs::path(directory) / fs::path(input).stem()).string() + "." + format;
+    const auto [previous, fresh] = taken.emplace(output, input);
+    if (!fresh)
+      throw InvalidOption(input + " and " + previous->second + " would both be written to " +
+                          output);
+    check_output_option(output, check_medial_mesh_output);
+    jobs.push_back({input, output, ""});
+  }
+  return jobs;
 }
 
 }  // namespace
 
 int skeletonize_command(int argc, const char* const* argv) {
-  const SkeletonizerOptions defaults;
-  const ShapeOptions shape_defaults;
-  const PrepareOptions prepare_defaults;
-  std::string input, output, labels_path, denoise = "auto";
-  SkeletonizerOptions options;
-  ShapeOptions shape_options;
-  PrepareOptions prepare_options;
-  int threads = 0;
+  const Options defaults;
+  Settings settings;
+  Options& options = settings.options;
+  std::vector<std::string> inputs;
+  std::string output, output_dir, inputs_list, labels_path, format = "ply", denoise = "auto";
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
       ("help,h", "print this help")
-      ("output,o", po::value(&output), "medial mesh to write (.ply or .ma)")
-      ("spheres,n", po::value(&options.target_spheres),
-       "number of medial spheres to produce (met exactly; default 100 when --error is absent)")
-      ("error,e", po::value(&options.error_threshold),
+      ("output,o", po::value(&output), "medial mesh to write (.ply or .ma), for one INPUT")
+      ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (must exist)")
+      ("format", po::value(&format)->default_value("ply"), "with --output-dir: ply or ma")
+      ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
+      ("spheres,n", po::value(&options.spheres),
+       "number of medial spheres to produce (met exactly, at most the number of usable points; "
+       "default 100 when --error is absent)")
+      ("error,e", po::value(&options.error),
        "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
        "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
-      ("max-spheres", po::value(&options.max_spheres)->default_value(defaults.max_spheres),
-       "with --error: never more spheres than this")
-      ("lambda,l", po::value(&options.lambda)->default_value(defaults.lambda, "0.2"),
+      ("max-spheres", po::value(&options.run.max_spheres)->default_value(defaults.run.max_spheres),
+       "with --error: never more spheres than this (also the largest --spheres)")
+      ("lambda,l", po::value(&options.run.lambda)->default_value(defaults.run.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
-      ("final-lambda", po::value(&options.final_lambda)->default_value(defaults.final_lambda, "0.01"),
+      ("final-lambda", po::value(&options.run.final_lambda)
+           ->default_value(defaults.run.final_lambda, "0.01"),
        "lambda of the refits that end the run (spheres reach the shape's extremities)")
-      ("final-rounds", po::value(&options.final_rounds)->default_value(defaults.final_rounds),
+      ("final-rounds", po::value(&options.run.final_rounds)
+           ->default_value(defaults.run.final_rounds),
        "refits with --final-lambda after the optimisation (0: none)")
-      ("k", po::value(&shape_options.k)->default_value(shape_defaults.k),
+      ("k", po::value(&options.shape.k)->default_value(defaults.shape.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
-      ("normal-k", po::value(&prepare_options.normals.k)->default_value(prepare_defaults.normals.k),
+      ("normal-k", po::value(&options.prepare.normals.k)
+           ->default_value(defaults.prepare.normals.k),
        "neighbours used to estimate and orient normals of clouds that have none")
       ("estimate-normals", "estimate normals even if the file has them")
       ("denoise", po::value(&denoise)->default_value("auto"),
@@ -231,73 +356,122 @@ int skeletonize_command(int argc, const char* const* argv) {
        "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
       ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
        "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
-      ("labels", po::value(&labels_path), "also write the cluster of every input point (text)")
+      ("labels", po::value(&labels_path),
+       "also write the sphere of every point of the file, one per line (-1: point dropped as "
+       "NaN, duplicate or outlier); one INPUT only")
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
-      ("max-iterations", po::value(&options.max_iterations)->default_value(defaults.max_iterations),
+      ("max-iterations", po::value(&options.run.max_iterations)
+           ->default_value(defaults.run.max_iterations),
        "stop after this many partition/update steps")
-      ("convergence", po::value(&options.convergence)->default_value(defaults.convergence, "0.0002"),
+      ("convergence", po::value(&options.run.convergence)
+           ->default_value(defaults.run.convergence, "0.0002"),
        "split (or stop) once the total error changes by less than this fraction per step")
-      ("split-interval", po::value(&options.split_interval)->default_value(defaults.split_interval),
+      ("split-interval", po::value(&options.run.split_interval)
+           ->default_value(defaults.run.split_interval),
        "split at least every this many steps while spheres are missing")
-      ("splits-per-round", po::value(&options.split.max_per_round)
-           ->default_value(defaults.split.max_per_round),
+      ("splits-per-round", po::value(&options.run.split.max_per_round)
+           ->default_value(defaults.run.split.max_per_round),
        "with --spheres: at most this many spheres are added per split round (and at most 20 % of "
        "the count; --error grows by the 20 % alone)")
-      ("denoise-angle", po::value(&options.shrinking_ball.denoise_angle_deg)
-           ->default_value(defaults.shrinking_ball.denoise_angle_deg),
+      ("denoise-angle", po::value(&options.run.shrinking_ball.denoise_angle_deg)
+           ->default_value(defaults.run.shrinking_ball.denoise_angle_deg),
        "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
        "disables it")
-      ("ball-tolerance", po::value(&options.shrinking_ball.tolerance)
-           ->default_value(defaults.shrinking_ball.tolerance, "1e-05"),
+      ("ball-tolerance", po::value(&options.run.shrinking_ball.tolerance)
+           ->default_value(defaults.run.shrinking_ball.tolerance, "1e-05"),
        "shrinking ball: samples this close inside the ball do not shrink it (fraction of the "
-       "diagonal); raise it to about the noise level for noisy scans")
-      ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)")
-      ("quiet,q", "print nothing but errors");
+       "diagonal); raised automatically for smoothed scans")
+      ("threads", po::value(&options.threads)->default_value(0), "OpenMP threads (0: all cores)")
+      ("json", "print the summary as one JSON object (one line per INPUT with several)")
+      ("eval", "also measure the result's reconstruction error against INPUT (as vmas eval)")
+      ("quiet,q", "print nothing but errors and warnings");
   // clang-format on
   po::options_description hidden;
-  hidden.add_options()("input", po::value(&input));
+  hidden.add_options()("input", po::value(&inputs));
   po::options_description all;
   all.add(visible).add(hidden);
   po::positional_options_description positional;
-  positional.add("input", 1);
+  positional.add("input", -1);
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
-    std::cout
-        << visible
-        << "\nexample: vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n";
+    std::cout << visible
+              << "\nexamples:\n"
+                 "  vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n"
+                 "  vmas skeletonize scans/*.pcd --spheres 60 --output-dir skeletons --json\n";
     return 0;
   }
   po::notify(vm);
-  if (input.empty()) throw po::error("missing INPUT");
-  if (output.empty()) throw po::error("missing --output");
+  if (!inputs_list.empty()) {
+    const std::vector<std::string> listed = read_input_list(inputs_list);
+    inputs.insert(inputs.end(), listed.begin(), listed.end());
+  }
+  if (inputs.empty()) throw po::error("missing INPUT");
+  const bool batch = inputs.size() > 1 || !output_dir.empty();
+  if (batch && !output.empty())
+    throw po::error("give --output-dir for several inputs (--output names one file)");
+  if (!batch && output.empty()) throw po::error("missing --output");
+  if (batch && !labels_path.empty()) throw po::error("--labels takes one INPUT");
   if (vm.count("spheres") && vm.count("error"))
     throw po::error("give either --spheres or --error, not both");
-  if (!vm.count("spheres") && !vm.count("error")) options.target_spheres = 100;
-  if (vm.count("spheres") && options.target_spheres < 1)
-    throw InvalidOption("--spheres must be at least 1 (got " +
-                        std::to_string(options.target_spheres) + ")");
-  if (vm.count("error") && !(options.error_threshold > 0.0))
-    throw InvalidOption("--error must be positive");
-  options.project = !vm.count("no-projection");
-  prepare_options.denoise = parse_denoise(denoise, prepare_options.noise_sigma);
-  prepare_options.estimate_normals = vm.count("estimate-normals") > 0;
-  prepare_options.orient_normals = vm.count("orient-normals") > 0;
-  set_threads(threads);
+  if (vm.count("spheres") && options.spheres < 1)
+    throw InvalidOption("spheres",
+                        "must be at least 1 (got " + std::to_string(options.spheres) + ")");
+  if (vm.count("error") && !(options.error > 0.0)) throw InvalidOption("error", "must be positive");
+  options.run.project = !vm.count("no-projection");
+  options.prepare.denoise = parse_denoise(denoise, options.prepare.noise_sigma);
+  options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
+  options.prepare.orient_normals = vm.count("orient-normals") > 0;
   options.validate();
-  shape_options.validate();
-  prepare_options.validate();
-  check_output_option(output, check_medial_mesh_output);
-  if (!labels_path.empty()) check_output_option(labels_path, check_output);
-  const bool quiet = vm.count("quiet") > 0;
+  settings.json = vm.count("json") > 0;
+  settings.eval = vm.count("eval") > 0;
+  settings.quiet = vm.count("quiet") > 0;
 
-  // The stages do not know the file name; errors about the data should carry it.
-  try {
-    run_skeletonize(input, output, labels_path, options, shape_options, prepare_options, quiet);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(input + ": " + e.what());
+  if (!batch) {
+    check_output_option(output, check_medial_mesh_output);
+    if (!labels_path.empty()) check_output_option(labels_path, check_output);
+    const Job job{inputs[0], output, labels_path};
+    const bool show_progress = !settings.quiet && isatty(fileno(stderr));
+    const json summary = run_one(job, settings, show_progress);
+    if (settings.json)
+      std::cout << summary.dump() << "\n";
+    else if (!settings.quiet)
+      print_summary(summary, settings);
+    return 0;
   }
-  return 0;
+
+  // Several inputs: keep going after a failure, one line per file.
+  const std::vector<Job> jobs = batch_jobs(inputs, output_dir, format);
+  int failed = 0;
+  for (const Job& job : jobs) {
+    try {
+      const json s = run_one(job, settings, false);
+      if (settings.json)
+        std::cout << s.dump() << std::endl;
+      else if (!settings.quiet)
+        std::cout << job.input << " -> " << job.output << ": " << s["spheres"] << " spheres, "
+                  << s["edges"] << " edges, " << s["medial_faces"] << " faces, "
+                  << text_of(s["seconds"]["total"], "%.2f") << " s"
+                  << (s.contains("eval")
+                          ? ", epsilon " + s["eval"]["hausdorff_percent"].dump() + " %"
+                          : std::string())
+                  << (s["warnings"].empty()
+                          ? ""
+                          : ", " + std::to_string(s["warnings"].size()) + " warning(s)")
+                  << std::endl;
+    } catch (const std::exception& e) {
+      ++failed;
+      const std::string message = e.what();
+      if (settings.json)
+        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", message}}.dump()
+                  << std::endl;
+      else
+        std::cout << job.input << ": failed: " << message << std::endl;
+    }
+  }
+  if (failed > 0)
+    std::cerr << "vmas skeletonize: " << failed << " of " << jobs.size() << " inputs failed\n";
+  return failed > 0 ? 1 : 0;
 }
 
 }  // namespace vmas::cli

@@ -106,4 +106,32 @@ CleanReport clean_surface(SurfaceInput& surface) {
   return report;
 }
 
+MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces) {
+  struct Use {
+    int low, high;  // the edge's vertices, low < high
+    bool forward;   // the face runs from low to high
+  };
+  std::vector<Use> uses;
+  uses.reserve(3 * faces.size());
+  for (const auto& face : faces)
+    for (int c = 0; c < 3; ++c) {
+      const int a = face[c], b = face[(c + 1) % 3];
+      uses.push_back({std::min(a, b), std::max(a, b), a < b});
+    }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
+    return x.low != y.low ? x.low < y.low : x.high < y.high;
+  });
+  MeshDefects defects;
+  for (std::size_t first = 0, last = 0; first < uses.size(); first = last) {
+    while (last < uses.size() && uses[last].low == uses[first].low &&
+           uses[last].high == uses[first].high)
+      ++last;
+    const std::size_t count = last - first;
+    if (count == 1) ++defects.boundary_edges;
+    if (count > 2) ++defects.non_manifold_edges;
+    if (count == 2 && uses[first].forward == uses[first + 1].forward) ++defects.misoriented_edges;
+  }
+  return defects;
+}
+
 }  // namespace vmas

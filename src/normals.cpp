@@ -178,16 +178,9 @@ bool points_inward(const std::vector<Vec3>& points, const std::vector<Vec3>& nor
       if (points[i].dot(d) > points[extreme].dot(d)) extreme = i;
     extremes += normals[extreme].dot(d);
   }
-  Vec3 centroid = Vec3::Zero();
-  for (int i : component) centroid += points[i];
-  centroid /= static_cast<double>(component.size());
-  double flux = 0.0, reach = 0.0;
-  for (int i : component) {
-    flux += (points[i] - centroid).dot(normals[i]);
-    reach += (points[i] - centroid).norm();
-  }
-  const double divergence = reach > 0.0 ? flux / reach : 0.0;
-  return extremes / static_cast<double>(directions.size()) + divergence < 0.0;
+  return extremes / static_cast<double>(directions.size()) +
+             outward_flux(points, normals, component) <
+         0.0;
 }
 
 void orient(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
@@ -222,9 +215,33 @@ void orient(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
 
 }  // namespace
 
+double outward_flux(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                    const std::vector<int>& subset) {
+  const auto for_each_point = [&](const auto& visit) {
+    if (subset.empty())
+      for (std::size_t i = 0; i < points.size(); ++i) visit(i);
+    else
+      for (int i : subset) visit(static_cast<std::size_t>(i));
+  };
+  Vec3 centroid = Vec3::Zero();
+  std::size_t count = 0;
+  for_each_point([&](std::size_t i) {
+    centroid += points[i];
+    ++count;
+  });
+  if (count == 0) return 0.0;
+  centroid /= static_cast<double>(count);
+  double flux = 0.0, reach = 0.0;
+  for_each_point([&](std::size_t i) {
+    flux += (points[i] - centroid).dot(normals[i]);
+    reach += (points[i] - centroid).norm();
+  });
+  return reach > 0.0 ? flux / reach : 0.0;
+}
+
 void NormalOptions::validate() const {
   if (k < 3 || k > 200)
-    throw InvalidOption("normal-k must be between 3 and 200 (got " + std::to_string(k) + ")");
+    throw InvalidOption("normal-k", "must be between 3 and 200 (got " + std::to_string(k) + ")");
 }
 
 namespace {

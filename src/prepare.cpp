@@ -69,8 +69,9 @@ MedialMesh Frame::to_input(MedialMesh mesh) const {
 
 void PrepareOptions::validate() const {
   if (denoise == Denoise::Fixed && !(noise_sigma >= 0.0 && noise_sigma < 0.5))
-    throw InvalidOption("denoise sigma must be in [0, 0.5) of the bounding-box diagonal (got " +
-                        std::to_string(noise_sigma) + ")");
+    throw InvalidOption("denoise",
+                        "deviation must be in [0, 0.5) of the bounding-box diagonal (got " +
+                            std::to_string(noise_sigma) + ")");
   normals.validate();
   noise.validate();
 }
@@ -121,8 +122,8 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     // to the smoothed surface do not. When they say more, smooth again at their scale.
     if (options.denoise == PrepareOptions::Denoise::Auto) {
       // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
-      const double sigma = std::min(deviation_from(surface.points, smoothed),
-                                    kMaxReestimate * report.noise.sigma);
+      const double sigma =
+          std::min(deviation_from(surface.points, smoothed), kMaxReestimate * report.noise.sigma);
       if (sigma > kReestimate * report.noise.sigma) {
         report.noise.sigma = sigma;
         smoothed = surface.points;
@@ -159,8 +160,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
       report.normals_oriented = true;
     }
   }
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 

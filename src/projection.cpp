@@ -34,14 +34,14 @@ void ShrinkingBallOptions::validate() const {
     throw InvalidOption("shrinking-ball iterations must be between 1 and 1000 (got " +
                         std::to_string(max_iterations) + ")");
   if (!(tolerance >= 0.0 && tolerance < 0.1))
-    throw InvalidOption("shrinking-ball tolerance must be in [0, 0.1) (got " +
-                        std::to_string(tolerance) + ")");
+    throw InvalidOption("ball-tolerance",
+                        "must be in [0, 0.1) (got " + std::to_string(tolerance) + ")");
   if (!(initial_radius > 0.0 && initial_radius <= 100.0))
     throw InvalidOption("shrinking-ball initial radius must be in (0, 100] (got " +
                         std::to_string(initial_radius) + ")");
   if (!(denoise_angle_deg >= 0.0 && denoise_angle_deg < 180.0))
-    throw InvalidOption("denoise angle must be in [0, 180) degrees (got " +
-                        std::to_string(denoise_angle_deg) + ")");
+    throw InvalidOption("denoise-angle", "must be in [0, 180) degrees (got " +
+                                             std::to_string(denoise_angle_deg) + ")");
 }
 
 MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions& options)
@@ -155,8 +155,7 @@ bool MedialProjector::seen_from_inside(const Sphere& ball, int contact) const {
 Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, int& contact) const {
   const Vec3& p = shape_.points[vertex];
   const double delta = options_.tolerance * shape_.diagonal;
-  double radius =
-      std::min(options_.initial_radius * shape_.diagonal, radius_limit(p, inward));
+  double radius = std::min(options_.initial_radius * shape_.diagonal, radius_limit(p, inward));
   Vec3 center = p + radius * inward;
   contact = -1;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {

@@ -14,7 +14,7 @@ namespace vmas {
 
 void ShapeOptions::validate() const {
   if (k < 3 || k > 100)
-    throw InvalidOption("k must be between 3 and 100 (got " + std::to_string(k) + ")");
+    throw InvalidOption("k", "must be between 3 and 100 (got " + std::to_string(k) + ")");
 }
 
 namespace {

@@ -14,28 +14,30 @@ namespace vmas {
 
 void SkeletonizerOptions::validate() const {
   if (!(lambda >= 0.0 && lambda <= 1e6))
-    throw InvalidOption("lambda must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
+    throw InvalidOption("lambda", "must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
   if (!(final_lambda >= 0.0 && final_lambda <= 1e6))
-    throw InvalidOption("final lambda must be in [0, 1e6] (got " + std::to_string(final_lambda) +
-                        ")");
+    throw InvalidOption("final-lambda",
+                        "must be in [0, 1e6] (got " + std::to_string(final_lambda) + ")");
   if (final_rounds < 0 || final_rounds > 100)
-    throw InvalidOption("final rounds must be between 0 and 100 (got " +
-                        std::to_string(final_rounds) + ")");
+    throw InvalidOption("final-rounds",
+                        "must be between 0 and 100 (got " + std::to_string(final_rounds) + ")");
   if (target_spheres < 0)
-    throw InvalidOption("spheres must be at least 1 (got " + std::to_string(target_spheres) + ")");
+    throw InvalidOption("spheres",
+                        "must be at least 1 (got " + std::to_string(target_spheres) + ")");
   if (!(error_threshold >= 0.0 && error_threshold < 1.0))
-    throw InvalidOption("error must be in (0, 1), relative to the bounding-box diagonal (got " +
-                        std::to_string(error_threshold) + ")");
+    throw InvalidOption("error", "must be in (0, 1), relative to the bounding-box diagonal (got " +
+                                     std::to_string(error_threshold) + ")");
   if (target_spheres == 0 && error_threshold == 0.0)
     throw InvalidOption("give a sphere count or an error threshold");
-  if (max_spheres < 1) throw InvalidOption("max spheres must be at least 1");
+  if (max_spheres < 1) throw InvalidOption("max-spheres", "must be at least 1");
   if (target_spheres > max_spheres)
-    throw InvalidOption("spheres must be at most " + std::to_string(max_spheres) + " (got " +
-                        std::to_string(target_spheres) + ")");
-  if (max_iterations < 1) throw InvalidOption("max iterations must be at least 1");
+    throw InvalidOption("spheres", "must be at most " + std::to_string(max_spheres) + " (got " +
+                                       std::to_string(target_spheres) + ")");
+  if (max_iterations < 1) throw InvalidOption("max-iterations", "must be at least 1");
   if (!(convergence >= 0.0 && convergence < 1.0))
-    throw InvalidOption("convergence must be in [0, 1) (got " + std::to_string(convergence) + ")");
-  if (split_interval < 1) throw InvalidOption("split interval must be at least 1");
+    throw InvalidOption("convergence",
+                        "must be in [0, 1) (got " + std::to_string(convergence) + ")");
+  if (split_interval < 1) throw InvalidOption("split-interval", "must be at least 1");
   if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
     throw InvalidOption("settle iterations must be in [0, max settle iterations]");
   if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
@@ -61,9 +63,9 @@ Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
     : shape_(std::move(shape)), options_(options), projector_(shape_, options.shrinking_ball) {
   options_.validate();
   if (options_.target_spheres > shape_.size())
-    throw InvalidOption("spheres must be at most the number of points (" +
-                        std::to_string(shape_.size()) + ", got " +
-                        std::to_string(options_.target_spheres) + ")");
+    throw InvalidOption("spheres", "must be at most the number of points (" +
+                                       std::to_string(shape_.size()) + ", got " +
+                                       std::to_string(options_.target_spheres) + ")");
   // One cluster holding every vertex: fit its sphere from the centroid, then project it.
   std::vector<int> all(shape_.size());
   Vec3 centroid = Vec3::Zero();
@@ -220,14 +222,28 @@ int Skeletonizer::split() {
   return static_cast<int>(chosen.size());
 }
 
-RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progress) {
+RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   RunSummary summary;
+  const auto report = [&](Progress::Phase phase, double error, int round) {
+    summary.cancelled =
+        progress &&
+        !progress(Progress{phase, summary.iterations, static_cast<int>(spheres_.size()),
+                           options_.target_spheres, error, round, options_.final_rounds});
+    return !summary.cancelled;
+  };
+  const auto finish = [&] {
+    summary.hit_max_iterations =
+        summary.iterations == options_.max_iterations && !summary.converged;
+    summary.spheres = static_cast<int>(spheres_.size());
+    summary.error = total_error_;
+    return summary;
+  };
   double previous_error = total_error_;
   int last_split = 0;
   for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
     const double error = step();
     summary.iterations = iteration;
-    if (progress) progress(Progress{iteration, static_cast<int>(spheres_.size()), error});
+    if (!report(Progress::Phase::Optimising, error, 0)) return finish();
     const bool converged =
         std::abs(previous_error - error) <= options_.convergence * std::max(error, 1e-300);
     previous_error = error;
@@ -262,11 +278,9 @@ RunSummary Skeletonizer::run(const std::function<void(const Progress&)>& progres
     }
     fit_and_project(options_.final_lambda);
     refresh_errors(true);
+    if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
   }
-  summary.hit_max_iterations = summary.iterations == options_.max_iterations && !summary.converged;
-  summary.spheres = static_cast<int>(spheres_.size());
-  summary.error = total_error_;
-  return summary;
+  return finish();
 }
 
 void Skeletonizer::check_id(int id) const {

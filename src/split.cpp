@@ -13,8 +13,8 @@ void SplitOptions::validate() const {
     throw InvalidOption("split fraction must be in (0, 1] (got " + std::to_string(max_fraction) +
                         ")");
   if (max_per_round < 1)
-    throw InvalidOption("splits per round must be at least 1 (got " +
-                        std::to_string(max_per_round) + ")");
+    throw InvalidOption("splits-per-round",
+                        "must be at least 1 (got " + std::to_string(max_per_round) + ")");
 }
 
 std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_errors,

@@ -1,6 +1,7 @@
 #pragma once
 // The cleaning stage, the first every input goes through (the readers call it; so does the
 // one-call vmas::skeletonize for data that did not come from a file).
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct CleanReport {
   std::size_t total() const {
     return non_finite_points + duplicate_points + degenerate_faces + unused_points;
   }
+  // Points of the surface as given (kept ones plus the removed ones).
+  std::size_t input_points() const {
+    return kept.size() + non_finite_points + duplicate_points + unused_points;
+  }
 };
 
 // Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,
@@ -31,5 +36,14 @@ struct CleanReport {
 // Throws InvalidInput if `normals` is neither empty nor one per point, or if a coordinate is
 // infinite or beyond +-1e150 (squared distances would overflow).
 CleanReport clean_surface(SurfaceInput& surface);
+
+// What makes a mesh a poor description of a solid, counted over its (undirected) edges.
+struct MeshDefects {
+  std::size_t boundary_edges = 0;      // on one face only: holes, an open mesh
+  std::size_t non_manifold_edges = 0;  // on more than two faces
+  std::size_t misoriented_edges = 0;   // its two faces run along it the same way: neighbouring
+                                       // faces disagree on which side is outside
+};
+MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces);
 
 }  // namespace vmas

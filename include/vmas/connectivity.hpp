@@ -16,4 +16,9 @@ std::vector<std::vector<int>> cluster_adjacency(const Shape& shape, const std::v
 MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
                              const std::vector<std::vector<int>>& adjacency);
 
+// Connected components of the shape's neighbour graph, and of a medial mesh's edges and faces
+// (an isolated sphere is a component of its own).
+int component_count(const Shape& shape);
+int component_count(const MedialMesh& mesh);
+
 }  // namespace vmas

@@ -17,9 +17,9 @@ struct NoiseEstimate {
 // Fits a quadric height field to the k nearest neighbours of evenly spread points (within an even
 // subset of 10 000 points) and takes the median RMS residual, at the smallest k in 16, 32, ...
 // 2048 whose neighbourhood radius is at least three times that residual (smaller neighbourhoods
-// lie inside the noise and underestimate it). Clean samples of a smooth surface give a tiny fraction of the spacing;
-// sharp edges touch too few points to move the median. Deterministic. Throws InvalidInput for
-// fewer than 16 points.
+// lie inside the noise and underestimate it). Clean samples of a smooth surface give a tiny
+// fraction of the spacing; sharp edges touch too few points to move the median. Deterministic.
+// Throws InvalidInput for fewer than 16 points.
 NoiseEstimate estimate_noise(const std::vector<Vec3>& points);
 
 struct DenoiseOptions {
@@ -40,7 +40,8 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
 // Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
 // outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
 // mean), ascending; repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of
-// the points. A first pass flagging more than 2 % has found uneven density: every point stays. Clouds too small for it keep every point.
+// the points. A first pass flagging more than 2 % has found uneven density: every point stays.
+// Clouds too small for it keep every point.
 std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);
 
 // Projects every point onto the local quadric surface of PCL's MovingLeastSquares with support

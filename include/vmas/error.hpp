@@ -21,8 +21,17 @@ struct InvalidInput : Error {
 };
 
 // An option value out of its range (thrown by the options structs' validate()); a usage error.
+// When the value is one of vmas::Options, option() names it as the CLI spells it without its
+// dashes ("lambda", "normal-k"), and the message starts with that name, so that a front end can
+// point at its own spelling ("--lambda must be ...").
 struct InvalidOption : Error {
   using Error::Error;
+  InvalidOption(const std::string& option, const std::string& problem)
+      : Error(option + " " + problem), option_(option) {}
+  const std::string& option() const { return option_; }
+
+ private:
+  std::string option_;
 };
 
 }  // namespace vmas

@@ -24,4 +24,10 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
 // InvalidOption for a bad k and InvalidInput when the two sizes differ.
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
 
+// How much unit normals point away from the points' centroid: Σ (p − c)·n / Σ |p − c| over the
+// points listed in `subset` (all when empty), in [−1, 1]. Near 1 for a roundish closed surface
+// with outward normals, near −1 with inward ones, near 0 for flat data or normals of random sign.
+double outward_flux(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                    const std::vector<int>& subset = {});
+
 }  // namespace vmas

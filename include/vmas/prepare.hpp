@@ -33,12 +33,12 @@ struct Frame {
 };
 
 struct PrepareReport {
-  Frame frame;                // identity unless the input was far from the origin or outsized
-  std::vector<int> kept;      // input index of every prepared point, ascending
-  std::size_t outliers = 0;   // points dropped as outliers
-  NoiseEstimate noise;        // as measured (or given), before smoothing
-  double diagonal = 0.0;      // bounding-box diagonal of the prepared points
-  double mls_radius = 0.0;    // support of the smoothing (0: not smoothed)
+  Frame frame;                  // identity unless the input was far from the origin or outsized
+  std::vector<int> kept;        // input index of every prepared point, ascending
+  std::size_t outliers = 0;     // points dropped as outliers
+  NoiseEstimate noise;          // as measured (or given), before smoothing
+  double diagonal = 0.0;        // bounding-box diagonal of the prepared points
+  double mls_radius = 0.0;      // support of the smoothing (0: not smoothed)
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
   bool faces_dropped = false;  // a noisy mesh whose smoothed vertices went on as a cloud

@@ -43,10 +43,19 @@ struct StageTimes {  // seconds spent in each stage so far
 };
 
 struct Progress {
-  int iteration = 0;
-  int spheres = 0;
-  double error = 0.0;  // total error Σ E_v / A(shape)
+  // Preparing: vmas::skeletonize before the run (cleaning, denoising, normals, the shape);
+  // Optimising: after every partition + update step; FinalRefit: after every final refit.
+  enum class Phase { Preparing, Optimising, FinalRefit };
+  Phase phase = Phase::Optimising;
+  int iteration = 0;          // steps so far
+  int spheres = 0;            // spheres now
+  int target_spheres = 0;     // the count asked for (0: an error threshold)
+  double error = 0.0;         // total error Σ E_v / A(shape)
+  int round = 0, rounds = 0;  // FinalRefit: this round (1-based) of how many
 };
+
+// Called from the thread that runs the optimisation; returning false stops it there.
+using ProgressCallback = std::function<bool(const Progress&)>;
 
 struct RunSummary {
   int iterations = 0;
@@ -54,6 +63,7 @@ struct RunSummary {
   double error = 0.0;
   bool converged = false;           // the total error settled (see convergence)
   bool hit_max_iterations = false;  // max_iterations ended the run
+  bool cancelled = false;           // the progress callback returned false
 };
 
 class Skeletonizer {
@@ -68,7 +78,8 @@ class Skeletonizer {
   // One split round (§3.4); returns the number of spheres added.
   int split();
   // Steps and splits until the target is met and the error has settled, then the final refits.
-  RunSummary run(const std::function<void(const Progress&)>& progress = {});
+  // A cancelled run leaves the state as it was after the last reported step.
+  RunSummary run(const ProgressCallback& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
   // whose cluster stays below min_cluster_size is moved by the next step().

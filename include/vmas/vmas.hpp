@@ -1,0 +1,87 @@
+#pragma once
+// The one-call API: a surface in, a skeleton out, doing exactly what `vmas skeletonize` does —
+// cleaning, outlier removal and denoising, normal estimation and orientation, the optimisation
+// and its final refits, and the checks that turn into warnings. No PCL in this header; users of
+// PCL types include vmas/pcl.hpp.
+//
+//   vmas::Options options;
+//   options.spheres = 40;
+//   const vmas::Result result = vmas::skeletonize(surface, options);
+//   vmas::write_medial_mesh("skeleton.ply", result.medial_mesh);
+//
+// Thread-safe: calls from several threads do not share state (each sets its own thread count).
+#include <string>
+#include <vector>
+
+#include "vmas/clean.hpp"
+#include "vmas/error.hpp"
+#include "vmas/prepare.hpp"
+#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+// "0.2.0": the version of the library this program runs with.
+const char* version();
+
+// Spheres produced when neither a count nor an error threshold is given.
+constexpr int kDefaultSpheres = 100;
+
+// Every option of `vmas skeletonize`, with its defaults.
+struct Options {
+  int spheres = 0;          // spheres to produce, met exactly (0 with error 0: kDefaultSpheres)
+  double error = 0.0;       // instead of a count: split until every cluster's RMS error √E(C) is
+                            // below this fraction of the diagonal (e.g. 0.005), at most
+                            // run.max_spheres (5000) spheres; scan noise sets a floor
+  int threads = 0;          // OpenMP threads of this call (0: OpenMP's default, all cores)
+  PrepareOptions prepare;   // denoising (auto), outliers, normal estimation and orientation
+  ShapeOptions shape;       // k of a cloud's neighbour graph
+  SkeletonizerOptions run;  // λ, final refits, convergence, shrinking balls, ...; its
+                            // target_spheres and error_threshold are ignored (set from above)
+  // Throws InvalidOption naming the option; option() gives its CLI name.
+  void validate() const;
+};
+
+// Something about the input or the result the caller should know; the result is still usable.
+struct Warning {
+  // A stable identifier, for programs: "open-surface", "open-mesh", "misoriented-faces",
+  // "inward-normals", "split-skeleton".
+  std::string code;
+  std::string message;  // one line, for people
+};
+
+struct Timings {  // seconds
+  double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
+         split = 0.0, connectivity = 0.0, total = 0.0;
+};
+
+struct Result {
+  MedialMesh medial_mesh;   // in the input's coordinates
+  std::vector<int> labels;  // one per input point: the sphere whose cluster holds it; -1 for a
+                            // point dropped (NaN, duplicate, outlier, vertex of no face)
+  RunSummary summary;
+  CleanReport clean;         // what cleaning removed (clean.kept: input index of each point kept)
+  PrepareReport prepare;     // outliers, noise, smoothing, normals, the working frame
+  MeshDefects mesh_defects;  // meshes: boundary, non-manifold and misoriented edges
+  double enclosure = 0.0;    // median winding number inside (1: a closed surface)
+  int input_components = 0;  // of the shape's neighbour graph (mesh edges or k-NN graph)
+  int skeleton_components = 0;  // of the medial mesh
+  Timings seconds;
+  std::vector<Warning> warnings;
+};
+
+// Thrown by skeletonize() when the progress callback returned false.
+struct Cancelled : Error {
+  Cancelled() : Error("cancelled") {}
+};
+
+// Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed).
+// `progress` is called once while preparing and after every step and final refit, from the
+// calling thread; returning false cancels (throws Cancelled). Throws InvalidOption for bad
+// options, InvalidInput for data that cannot give the skeleton asked for (too few usable
+// points, a count that cannot be met).
+Result skeletonize(const SurfaceInput& input, const Options& options = {},
+                   const ProgressCallback& progress = {});
+
+}  // namespace vmas

@@ -1,0 +1,179 @@
+// The one-call API: every stage in the order the CLI has always run them.
+#include "vmas/vmas.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "vmas/connectivity.hpp"
+#include "vmas/normals.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#ifndef VMAS_VERSION_STRING
+#error "VMAS_VERSION_STRING is set by CMakeLists.txt from the project's version"
+#endif
+
+namespace vmas {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The OpenMP thread count of the calling thread for the duration of one call (OpenMP keeps it
+// per thread, so concurrent calls do not interfere).
+class ThreadCount {
+ public:
+  explicit ThreadCount(int threads) {
+#ifdef _OPENMP
+    previous_ = omp_get_max_threads();
+    if (threads > 0) omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+  }
+  ~ThreadCount() {
+#ifdef _OPENMP
+    omp_set_num_threads(previous_);
+#endif
+  }
+  ThreadCount(const ThreadCount&) = delete;
+  ThreadCount& operator=(const ThreadCount&) = delete;
+
+ private:
+  int previous_ = 0;
+};
+
+SkeletonizerOptions run_options(const Options& options) {
+  SkeletonizerOptions run = options.run;
+  run.error_threshold = options.error;
+  run.target_spheres = options.spheres > 0   ? options.spheres
+                       : options.error > 0.0 ? 0
+                                             : kDefaultSpheres;
+  return run;
+}
+
+// outward_flux below this: most normals point inward (0 for flat data or random signs).
+constexpr double kClearlyInward = -0.1;
+
+// The checks whose failure leaves a usable but doubtful skeleton.
+std::vector<Warning> warnings_about(const Result& result, const SurfaceInput& prepared,
+                                    bool normals_given) {
+  std::vector<Warning> warnings;
+  const MeshDefects& mesh = result.mesh_defects;
+  if (mesh.boundary_edges > 0)
+    warnings.push_back({"open-mesh", "the mesh is open (" + std::to_string(mesh.boundary_edges) +
+                                         " edges on one face only): it bounds no volume, and "
+                                         "the skeleton is only an approximation near the holes"});
+  if (mesh.misoriented_edges > 0)
+    warnings.push_back(
+        {"misoriented-faces", "neighbouring faces disagree on which side is outside (" +
+                                  std::to_string(mesh.misoriented_edges) +
+                                  " edges): re-orient the mesh consistently"});
+  if (normals_given && outward_flux(prepared.points, prepared.normals) < kClearlyInward)
+    warnings.push_back({"inward-normals",
+                        "the file's normals point inward on the whole; --orient-normals "
+                        "(options.prepare.orient_normals) re-orients them"});
+  // A mesh warning above already says why it encloses nothing.
+  if (result.enclosure < MedialProjector::kEnclosed && warnings.empty()) {
+    char figure[32];
+    std::snprintf(figure, sizeof figure, "%.2g", result.enclosure);
+    warnings.push_back(
+        {"open-surface", std::string("the data does not enclose a volume (winding number ") +
+                             figure +
+                             " inside, 1 for a closed surface): open or single-view scan, "
+                             "holes, or inconsistently oriented normals; the skeleton is only "
+                             "an approximation there"});
+  }
+  if (result.skeleton_components > result.input_components)
+    warnings.push_back(
+        {"split-skeleton", "the skeleton has " + std::to_string(result.skeleton_components) +
+                               " components, the input " + std::to_string(result.input_components) +
+                               ": a thin part may have lost its spheres"});
+  return warnings;
+}
+
+}  // namespace
+
+const char* version() { return VMAS_VERSION_STRING; }
+
+void Options::validate() const {
+  if (spheres < 0)
+    throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(spheres) + ")");
+  if (spheres > 0 && error > 0.0) throw InvalidOption("give either spheres or error, not both");
+  if (threads < 0)
+    throw InvalidOption("threads", "must be 0 or more (got " + std::to_string(threads) + ")");
+  run_options(*this).validate();
+  shape.validate();
+  prepare.validate();
+}
+
+Result skeletonize(const SurfaceInput& input, const Options& options,
+                   const ProgressCallback& progress) {
+  options.validate();
+  const ThreadCount threads(options.threads);
+  const auto start = Clock::now();
+  const SkeletonizerOptions run = run_options(options);
+  const auto check_cancel = [&] {
+    Progress preparing;
+    preparing.phase = Progress::Phase::Preparing;
+    preparing.target_spheres = run.target_spheres;
+    if (progress && !progress(preparing)) throw Cancelled();
+  };
+  check_cancel();
+
+  Result result;
+  SurfaceInput surface = input;
+  result.clean = clean_surface(surface);
+  if (surface.points.empty()) throw InvalidInput("no usable points");
+  result.seconds.clean = seconds_since(start);
+  if (surface.is_mesh()) result.mesh_defects = mesh_defects(surface.faces);
+  const bool normals_given = !surface.is_mesh() && surface.has_normals() &&
+                             !options.prepare.estimate_normals && !options.prepare.orient_normals;
+  result.prepare = prepare_surface(surface, options.prepare);
+  result.seconds.prepare = result.prepare.seconds;
+  check_cancel();
+
+  SkeletonizerOptions adapted = run;
+  adapt_shrinking_ball(result.prepare, adapted.shrinking_ball);
+  const auto shape_start = Clock::now();
+  Shape shape = build_shape(surface, options.shape);
+  result.input_components = component_count(shape);
+  result.seconds.shape = seconds_since(shape_start);
+  Skeletonizer skeletonizer(std::move(shape), adapted);
+  result.summary = skeletonizer.run(progress);
+  if (result.summary.cancelled) throw Cancelled();
+  // The count is a promise: a skeleton with fewer spheres is an error, not a result.
+  if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)
+    throw InvalidInput("cannot place " + std::to_string(run.target_spheres) + " spheres on " +
+                       std::to_string(skeletonizer.shape().size()) + " usable points (placed " +
+                       std::to_string(result.summary.spheres) + "); ask for fewer");
+
+  const auto connectivity_start = Clock::now();
+  result.medial_mesh = result.prepare.frame.to_input(skeletonizer.medial_mesh());
+  result.skeleton_components = component_count(result.medial_mesh);
+  result.seconds.connectivity = seconds_since(connectivity_start);
+  result.enclosure = skeletonizer.projector().enclosure();
+
+  // Labels of the shape's vertices, back through preparation and cleaning to the input.
+  result.labels.assign(input.points.size(), -1);
+  const std::vector<int>& labels = skeletonizer.labels();
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    result.labels[result.clean.kept[result.prepare.kept[i]]] = labels[i];
+
+  result.warnings = warnings_about(result, surface, normals_given);
+  const StageTimes& times = skeletonizer.times();
+  result.seconds.partition = times.partition;
+  result.seconds.update = times.update;
+  result.seconds.projection = times.projection;
+  result.seconds.split = times.split;
+  result.seconds.total = seconds_since(start);
+  return result;
+}
+
+}  // namespace vmas

@@ -1,0 +1,191 @@
+// The one-call API (vmas/vmas.hpp): labels per input point, cancellation, the thread count as
+// an option, warnings as data, options named as the CLI spells them.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include "test_shapes.hpp"
+#include "vmas/vmas.hpp"
+
+namespace vmas {
+namespace {
+
+bool has_warning(const Result& result, const std::string& code) {
+  return std::any_of(result.warnings.begin(), result.warnings.end(),
+                     [&](const Warning& w) { return w.code == code; });
+}
+
+SurfaceInput capsule_cloud() {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 41);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  return cloud;
+}
+
+TEST(OneCall, LabelsIndexTheInputPointsWithMinusOneForDroppedOnes) {
+  SurfaceInput cloud = capsule_cloud();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // An organised scan's "no point here", and a point seen twice.
+  cloud.points.insert(cloud.points.begin() + 10, Vec3(nan, nan, nan));
+  cloud.points.push_back(cloud.points[20]);
+  Options options;
+  options.spheres = 6;
+  const Result result = skeletonize(cloud, options);
+  ASSERT_EQ(result.medial_mesh.spheres.size(), 6u);
+  ASSERT_EQ(result.labels.size(), cloud.points.size());
+  EXPECT_EQ(result.labels[10], -1);
+  EXPECT_EQ(result.labels.back(), -1);
+  EXPECT_EQ(result.clean.non_finite_points, 1u);
+  EXPECT_EQ(result.clean.duplicate_points, 1u);
+  // Every other point is in a cluster, unless outlier removal took it.
+  std::vector<int> sizes(6, 0);
+  std::size_t unlabelled = 0;
+  for (std::size_t i = 0; i < result.labels.size(); ++i) {
+    ASSERT_GE(result.labels[i], -1) << i;
+    ASSERT_LT(result.labels[i], 6) << i;
+    if (result.labels[i] >= 0)
+      ++sizes[result.labels[i]];
+    else
+      ++unlabelled;
+  }
+  EXPECT_EQ(unlabelled, 2 + result.prepare.outliers);
+  for (int size : sizes) EXPECT_GT(size, 0);
+  // A point's sphere is near it: the capsule is 0.2 thick.
+  for (std::size_t i = 0; i < cloud.points.size(); i += 97)
+    if (result.labels[i] >= 0) {
+      const Sphere& s = result.medial_mesh.spheres[result.labels[i]];
+      EXPECT_LT((cloud.points[i] - s.center).norm() - s.radius, 0.1) << i;
+    }
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front().message;
+  EXPECT_EQ(result.skeleton_components, 1);
+}
+
+TEST(OneCall, ReportsEveryPhaseAndCancelsWhenTheCallbackSaysSo) {
+  const SurfaceInput cloud = capsule_cloud();
+  Options options;
+  options.spheres = 4;
+  bool preparing = false, optimising = false;
+  int last_round = 0, rounds = 0;
+  skeletonize(cloud, options, [&](const Progress& p) {
+    preparing = preparing || p.phase == Progress::Phase::Preparing;
+    optimising = optimising || p.phase == Progress::Phase::Optimising;
+    if (p.phase == Progress::Phase::Optimising) EXPECT_EQ(p.target_spheres, 4);
+    if (p.phase == Progress::Phase::FinalRefit) {
+      last_round = p.round;
+      rounds = p.rounds;
+    }
+    return true;
+  });
+  EXPECT_TRUE(preparing);
+  EXPECT_TRUE(optimising);
+  EXPECT_EQ(rounds, options.run.final_rounds);
+  EXPECT_EQ(last_round, options.run.final_rounds);
+
+  int steps = 0;
+  EXPECT_THROW(skeletonize(cloud, options,
+                           [&](const Progress& p) {
+                             steps += p.phase == Progress::Phase::Optimising;
+                             return steps < 3;
+                           }),
+               Cancelled);
+  EXPECT_EQ(steps, 3);
+  EXPECT_THROW(skeletonize(cloud, options, [](const Progress&) { return false; }), Cancelled);
+}
+
+TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {
+  const SurfaceInput cloud = capsule_cloud();
+  const int before = omp_get_max_threads();
+  Options options;
+  options.spheres = 3;
+  options.threads = before + 1;
+  int seen = 0;
+  skeletonize(cloud, options, [&](const Progress&) {
+    seen = omp_get_max_threads();
+    return true;
+  });
+  EXPECT_EQ(seen, before + 1);
+  EXPECT_EQ(omp_get_max_threads(), before);
+}
+
+TEST(OneCall, OptionErrorsNameTheOption) {
+  const SurfaceInput cloud = capsule_cloud();
+  Options options;
+  options.run.lambda = -1.0;
+  try {
+    skeletonize(cloud, options);
+    ADD_FAILURE() << "no InvalidOption";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "lambda");
+    EXPECT_EQ(std::string(e.what()).rfind("lambda must", 0), 0u) << e.what();
+  }
+  options = Options();
+  options.spheres = 10;
+  options.error = 0.01;
+  EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
+  options = Options();
+  options.spheres = 5000;  // more than the 3000 points
+  EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
+}
+
+TEST(OneCall, DefaultsToTheCliSphereCountAndHonoursAnErrorThreshold) {
+  const SurfaceInput cloud = capsule_cloud();
+  EXPECT_EQ(skeletonize(cloud).medial_mesh.spheres.size(), std::size_t(kDefaultSpheres));
+  Options options;
+  options.error = 0.02;
+  const Result result = skeletonize(cloud, options);
+  EXPECT_GT(result.medial_mesh.spheres.size(), 1u);
+  EXPECT_LT(result.medial_mesh.spheres.size(), 60u);
+}
+
+TEST(OneCallWarnings, OpenMeshAndMisorientedFaces) {
+  SurfaceInput sphere = test::icosphere(Vec3::Zero(), 1.0, 3);
+  Options options;
+  options.spheres = 3;
+  const Result closed = skeletonize(sphere, options);
+  EXPECT_TRUE(closed.warnings.empty()) << closed.warnings.front().message;
+  EXPECT_EQ(closed.mesh_defects.boundary_edges, 0u);
+
+  SurfaceInput open = sphere;
+  open.faces.erase(std::remove_if(open.faces.begin(), open.faces.end(),
+                                  [&](const auto& f) { return open.points[f[0]].z() > 0.6; }),
+                   open.faces.end());
+  const Result opened = skeletonize(open, options);
+  EXPECT_GT(opened.mesh_defects.boundary_edges, 0u);
+  EXPECT_TRUE(has_warning(opened, "open-mesh"));
+
+  SurfaceInput flipped = sphere;
+  for (std::size_t f = 0; f < flipped.faces.size(); f += 2)
+    std::swap(flipped.faces[f][1], flipped.faces[f][2]);
+  const Result misoriented = skeletonize(flipped, options);
+  EXPECT_GT(misoriented.mesh_defects.misoriented_edges, 0u);
+  EXPECT_TRUE(has_warning(misoriented, "misoriented-faces"));
+}
+
+TEST(OneCallWarnings, InwardNormalsAndOpenScans) {
+  SurfaceInput cloud = capsule_cloud();
+  for (const Vec3& p : cloud.points) {
+    // The capsule's outward normal, reversed.
+    const Vec3 axis_point(0.0, 0.0, std::clamp(p.z(), 0.0, 1.0));
+    cloud.normals.push_back((axis_point - p).normalized());
+  }
+  Options options;
+  options.spheres = 3;
+  EXPECT_TRUE(has_warning(skeletonize(cloud, options), "inward-normals"));
+  options.prepare.orient_normals = true;
+  EXPECT_FALSE(has_warning(skeletonize(cloud, options), "inward-normals"));
+
+  SurfaceInput half;
+  for (const Vec3& p : test::sample_sphere(Vec3::Zero(), 1.0, 3000, 42).points)
+    if (p.z() > 0.0) half.points.push_back(p);
+  options = Options();
+  options.spheres = 3;
+  const Result scan = skeletonize(half, options);
+  EXPECT_LT(scan.enclosure, MedialProjector::kEnclosed);
+  EXPECT_TRUE(has_warning(scan, "open-surface"));
+}
+
+}  // namespace
+}  // namespace vmas
