@@ -1,0 +1,81 @@
+// What a pipeline does with vmas: a PCL cloud in, a skeleton out.
+//   consumer make-organised OUT.pcd   writes an organised cloud of a capsule, with NaN holes
+//   consumer INPUT.pcd OUTPUT.ply      skeletonizes INPUT with 40 spheres; checks the promises
+#include <pcl/io/pcd_io.h>
+
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vmas/io.hpp>
+#include <vmas/pcl.hpp>
+#include <vmas/vmas.hpp>
+
+namespace {
+
+// A capsule (radius 0.3, axis along x, 2 long) as a 120 x 90 grid: columns go around the axis,
+// rows from one pole to the other; every seventh cell is missing, as a scanner leaves them.
+pcl::PointCloud<pcl::PointXYZ> organised_capsule() {
+  const int width = 120, height = 90;
+  const float radius = 0.3f, half_tube = 0.7f, quarter = 0.5f * static_cast<float>(M_PI);
+  pcl::PointCloud<pcl::PointXYZ> cloud(width, height);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int row = 0; row < height; ++row) {
+    const float t = static_cast<float>(row) / (height - 1);
+    float x = 0.0f, ring = radius;
+    if (t < 0.2f || t > 0.8f) {  // a cap: polar angle from the pole
+      const float polar = quarter * (t < 0.2f ? t : 1.0f - t) / 0.2f;
+      x = (t < 0.2f ? -1.0f : 1.0f) * (half_tube + radius * std::cos(polar));
+      ring = radius * std::sin(polar);
+    } else {
+      x = -half_tube + 2.0f * half_tube * (t - 0.2f) / 0.6f;
+    }
+    for (int column = 0; column < width; ++column) {
+      const float angle = 4.0f * quarter * column / width;
+      cloud.at(column, row) = (row * width + column) % 7 == 3
+                                  ? pcl::PointXYZ(nan, nan, nan)
+                                  : pcl::PointXYZ(x, ring * std::cos(angle), ring * std::sin(angle));
+    }
+  }
+  return cloud;
+}
+
+int fail(const std::string& problem) {
+  std::cerr << "consumer: " << problem << "\n";
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[1]) == "make-organised") {
+    return pcl::io::savePCDFileBinary(argv[2], organised_capsule()) == 0 ? 0 : 1;
+  }
+  if (argc != 3) return fail("usage: consumer INPUT.pcd OUTPUT.ply | make-organised OUT.pcd");
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  if (pcl::io::loadPCDFile(argv[1], cloud) != 0) return fail(std::string("cannot read ") + argv[1]);
+  std::cout << "vmas " << vmas::version() << ": " << cloud.width << " x " << cloud.height
+            << " cloud (organised: " << (cloud.isOrganized() ? "yes" : "no") << ")\n";
+  vmas::Options options;
+  options.spheres = 40;
+  const vmas::Result result = vmas::skeletonize(cloud, options);
+  vmas::write_medial_mesh(argv[2], result.medial_mesh);
+  if (result.labels.size() != cloud.size()) return fail("labels.size() != cloud.size()");
+  if (result.medial_mesh.spheres.size() != 40) return fail("not 40 spheres");
+  std::size_t nan_points = 0, unlabelled_nan = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (!std::isfinite(cloud[i].x)) {
+      ++nan_points;
+      unlabelled_nan += result.labels[i] == -1;
+    }
+  if (unlabelled_nan != nan_points) return fail("a NaN point has a label");
+  const vmas::PclMedialMesh display = vmas::to_pcl(result.medial_mesh);
+  if (display.centers.size() != 40 ||
+      display.mesh.polygons.size() != result.medial_mesh.faces.size() + result.medial_mesh.edges.size())
+    return fail("to_pcl lost spheres or polygons");
+  std::cout << "ok: " << result.medial_mesh.spheres.size() << " spheres, "
+            << result.medial_mesh.edges.size() << " edges, " << result.labels.size()
+            << " labels (" << nan_points << " NaN points unlabelled), " << result.warnings.size()
+            << " warnings\n";
+  return 0;
+}
