@@ -5,11 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "test_shapes.hpp"
 #include "vmas/io.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {
@@ -88,12 +90,114 @@ TEST_F(Cli, SkeletonizesAMeshAndWritesLabels) {
   EXPECT_EQ(lines, static_cast<int>(read_surface(path("capsule.off")).points.size()));
 }
 
+TEST_F(Cli, LabelsCoverEveryPointOfTheFile) {
+  // A NaN line (a scanner's "no point") and a repeated point: labelled -1, not left out.
+  const test::Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 2000, 35);
+  std::ostringstream text;
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    if (i == 5) text << "nan nan nan\n";
+    text << s.points[i].x() << " " << s.points[i].y() << " " << s.points[i].z() << "\n";
+  }
+  text << s.points[0].x() << " " << s.points[0].y() << " " << s.points[0].z() << "\n";
+  write("sphere.xyz", text.str());
+  const Result r = run("skeletonize " + path("sphere.xyz") + " -n 2 -q -o " + path("out.ply") +
+                       " --labels " + path("labels.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("labels.txt"));
+  std::vector<int> labels;
+  for (int label = 0; in >> label;) labels.push_back(label);
+  ASSERT_EQ(labels.size(), s.points.size() + 2);
+  EXPECT_EQ(labels[5], -1);
+  EXPECT_EQ(labels.back(), -1);
+  EXPECT_GE(labels[0], 0);
+}
+
+TEST_F(Cli, VersionAndJsonSummaryWithEval) {
+  Result r = run("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, "vmas " + std::string(version()) + "\n");
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  r = run("skeletonize " + path("capsule.off") + " -n 4 --json --eval -o " + path("out.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["vmas"], version());
+  EXPECT_EQ(summary["spheres"], 4);
+  EXPECT_EQ(summary["input"], path("capsule.off"));
+  EXPECT_TRUE(summary["warnings"].empty());
+  EXPECT_GT(summary["eval"]["hausdorff_percent"].get<double>(), 0.0);
+  EXPECT_LT(summary["eval"]["hausdorff_percent"].get<double>(), 10.0);
+  EXPECT_GE(summary["seconds"]["total"].get<double>(), summary["seconds"]["prepare"].get<double>());
+}
+
+TEST_F(Cli, WarningsAreInTheJsonToo) {
+  std::ostringstream plane;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) plane << i * 0.05 << " " << j * 0.05 << " 0 0 0 1\n";
+  write("plane.xyz", plane.str());
+  const Result r = run("skeletonize " + path("plane.xyz") + " -n 3 --json -o " + path("out.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto warnings = nlohmann::json::parse(r.out)["warnings"];
+  ASSERT_EQ(warnings.size(), 1u) << warnings.dump();
+  EXPECT_EQ(warnings[0]["code"], "open-surface");
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, BatchKeepsGoingAfterABrokenFile) {
+  write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
+  write("b.pcd", "##");
+  write_surface(path("c.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  fs::create_directories(path("out"));
+  const std::string inputs = path("a.off") + " " + path("b.pcd") + " " + path("c.off");
+  Result r = run("skeletonize " + inputs + " -n 2 --output-dir " + path("out"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(fs::exists(path("out/a.ply")));
+  EXPECT_FALSE(fs::exists(path("out/b.ply")));
+  EXPECT_TRUE(fs::exists(path("out/c.ply")));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 3) << r.out;
+  EXPECT_NE(r.out.find(path("b.pcd") + ": failed: " + path("b.pcd")), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("1 of 3 inputs failed"), std::string::npos) << r.err;
+
+  write("list.txt", path("a.off") + "\n# a comment\n" + path("b.pcd") + "\n");
+  r = run("skeletonize --inputs " + path("list.txt") + " -n 2 --json --format ma --output-dir " +
+          path("out"));
+  EXPECT_EQ(r.exit_code, 1);
+  std::istringstream lines(r.out);
+  std::string first, second;
+  ASSERT_TRUE(std::getline(lines, first) && std::getline(lines, second)) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(first)["spheres"], 2);
+  EXPECT_TRUE(nlohmann::json::parse(second).contains("error"));
+  EXPECT_TRUE(fs::exists(path("out/a.ma")));
+}
+
+TEST_F(Cli, BatchUsageErrors) {
+  write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
+  fs::create_directories(path("sub"));
+  write_surface(path("sub/a.off"), test::capsule(0.2, 1.0, 8, 24));
+  // Several inputs need a folder; two inputs named alike would overwrite each other.
+  EXPECT_EQ(run("skeletonize " + path("a.off") + " " + path("a.off") + " -o x.ply").exit_code, 2);
+  const Result r = run("skeletonize " + path("a.off") + " " + path("sub/a.off") + " --output-dir " +
+                       dir_.string());
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "would both be written");
+  EXPECT_EQ(run("skeletonize " + path("a.off") + " --output-dir " + path("missing")).exit_code, 2);
+}
+
+TEST_F(Cli, OptionErrorsNameTheFlagAsTyped) {
+  write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
+  for (const std::string option :
+       {"--lambda -1", "--normal-k 1", "--ball-tolerance 2", "--k 500"}) {
+    const Result r = run("skeletonize " + path("a.off") + " -o " + path("o.ply") + " " + option);
+    EXPECT_EQ(r.exit_code, 2) << option;
+    expect_one_line_error(r, option.substr(0, option.find(' ')) + " must");
+  }
+}
+
 TEST_F(Cli, FarFromTheOriginOrOutsizedGivesTheSameSkeleton) {
   // Georeferenced data: a capsule 1e8 away from the origin, and the same capsule in other units.
   const SurfaceInput capsule = test::capsule(0.2, 1.0, 8, 24);
-  for (const auto& [offset, scale] : {std::pair{Vec3(1e8, -1e8, 5e7), 1.0},
-                                      std::pair{Vec3(0.0, 0.0, 0.0), 1e-6},
-                                      std::pair{Vec3(3e3, 0.0, 0.0), 1e5}}) {
+  for (const auto& [offset, scale] :
+       {std::pair{Vec3(1e8, -1e8, 5e7), 1.0}, std::pair{Vec3(0.0, 0.0, 0.0), 1e-6},
+        std::pair{Vec3(3e3, 0.0, 0.0), 1e5}}) {
     SurfaceInput moved = capsule;
     for (Vec3& p : moved.points) p = offset + scale * p;
     write_surface(path("moved.off"), moved);
@@ -204,8 +308,8 @@ TEST_F(Cli, ReorientsInwardNormalsOnRequest) {
   cloud.faces.clear();
   for (const Vec3& p : cloud.points) cloud.normals.push_back(-p);  // all pointing inward
   write_surface(path("inward.xyz"), cloud);
-  const Result r = run("skeletonize " + path("inward.xyz") + " --orient-normals -n 1 -o " +
-                       path("out.ma"));
+  const Result r =
+      run("skeletonize " + path("inward.xyz") + " --orient-normals -n 1 -o " + path("out.ma"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("re-oriented"), std::string::npos) << r.out;
   const MedialMesh mesh = read_medial_mesh(path("out.ma"));

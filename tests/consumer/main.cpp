@@ -32,9 +32,10 @@ pcl::PointCloud<pcl::PointXYZ> organised_capsule() {
     }
     for (int column = 0; column < width; ++column) {
       const float angle = 4.0f * quarter * column / width;
-      cloud.at(column, row) = (row * width + column) % 7 == 3
-                                  ? pcl::PointXYZ(nan, nan, nan)
-                                  : pcl::PointXYZ(x, ring * std::cos(angle), ring * std::sin(angle));
+      cloud.at(column, row) =
+          (row * width + column) % 7 == 3
+              ? pcl::PointXYZ(nan, nan, nan)
+              : pcl::PointXYZ(x, ring * std::cos(angle), ring * std::sin(angle));
     }
   }
   return cloud;
@@ -71,11 +72,11 @@ int main(int argc, char** argv) {
   if (unlabelled_nan != nan_points) return fail("a NaN point has a label");
   const vmas::PclMedialMesh display = vmas::to_pcl(result.medial_mesh);
   if (display.centers.size() != 40 ||
-      display.mesh.polygons.size() != result.medial_mesh.faces.size() + result.medial_mesh.edges.size())
+      display.mesh.polygons.size() !=
+          result.medial_mesh.faces.size() + result.medial_mesh.edges.size())
     return fail("to_pcl lost spheres or polygons");
   std::cout << "ok: " << result.medial_mesh.spheres.size() << " spheres, "
-            << result.medial_mesh.edges.size() << " edges, " << result.labels.size()
-            << " labels (" << nan_points << " NaN points unlabelled), " << result.warnings.size()
-            << " warnings\n";
+            << result.medial_mesh.edges.size() << " edges, " << result.labels.size() << " labels ("
+            << nan_points << " NaN points unlabelled), " << result.warnings.size() << " warnings\n";
   return 0;
 }
