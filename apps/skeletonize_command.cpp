@@ -240,8 +240,7 @@ ProgressCallback terminal_progress(const std::string& input, bool show) {
 // the file.
 json run_one(const Job& job, const Settings& settings, bool show_progress) {
   const auto start = Clock::now();
-  CleanReport read_report;
-  const SurfaceInput surface = read_surface(job.input, &read_report);
+  const SurfaceInput surface = read_surface_as_stored(job.input);
   const double read_seconds = seconds_since(start);
   Result result;
   try {
@@ -251,21 +250,16 @@ json run_one(const Job& job, const Settings& settings, bool show_progress) {
     throw InvalidInput(job.input + ": " + e.what());
   }
   if (show_progress) std::fprintf(stderr, "\n");
-  // The file's cleaning came first: its counts, and labels indexing the file's points.
-  result.clean = read_report;
   const auto write_start = Clock::now();
   write_medial_mesh(job.output, result.medial_mesh);
-  if (!job.labels.empty()) {
-    std::vector<int> labels(read_report.input_points(), -1);
-    for (std::size_t i = 0; i < read_report.kept.size(); ++i)
-      labels[read_report.kept[i]] = result.labels[i];
-    write_labels(job.labels, labels);
-  }
+  if (!job.labels.empty()) write_labels(job.labels, result.labels);
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
   if (!settings.eval) return summarize(job, surface, result, read_seconds, write_seconds, nullptr);
-  const EvalResult eval = evaluate(surface, result.medial_mesh);
+  SurfaceInput cleaned = surface;
+  clean_surface(cleaned);
+  const EvalResult eval = evaluate(cleaned, result.medial_mesh);
   return summarize(job, surface, result, read_seconds, write_seconds, &eval);
 }
 

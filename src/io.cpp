@@ -43,7 +43,7 @@ using io_internal::lower_extension;
 using io_internal::quote;
 using io_internal::read_file;
 
-SurfaceInput read_surface(const std::string& path, CleanReport* report) {
+SurfaceInput read_surface_as_stored(const std::string& path) {
   // "No such file" beats "unknown extension" for a mistyped path.
   io_internal::check_readable(path);
   const std::string extension = lower_extension(path);
@@ -66,6 +66,11 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report) {
                    " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
   }
   if (surface.points.empty()) fail(path, "no points");
+  return surface;
+}
+
+SurfaceInput read_surface(const std::string& path, CleanReport* report) {
+  SurfaceInput surface = read_surface_as_stored(path);
   CleanReport cleaned;
   try {
     cleaned = clean_surface(surface);

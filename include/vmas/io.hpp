@@ -24,6 +24,11 @@ namespace vmas {
 // whatever its header announces.
 SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
 
+// The same without cleaning: every point as stored (NaN ones included, so that indices match
+// the file), for callers that clean later, such as vmas::skeletonize. Throws IoError for the
+// reasons above except those of cleaning.
+SurfaceInput read_surface_as_stored(const std::string& path);
+
 // Writes a mesh or cloud: .ply (binary little-endian, float coordinates, with normals if
 // present), .off (exact doubles; NOFF for clouds with normals, a mesh's normals are not written),
 // .xyz (9 significant digits, with normals if present; faces are not written).
