@@ -1,9 +1,9 @@
 // libFuzzer target: the input bytes become a file of one format (VMAS_FUZZ_EXTENSION, set by
-// CMake: one executable per format), which is read; a shape of at least 20 points then gets a
-// tiny bounded skeletonization. Aborts when a promise is broken: a reader throwing anything but
-// a one-line IoError naming the file, a non-finite sphere, an index out of range. Run by
+// CMake: one executable per format), which is read; a shape of at least 20 usable points then
+// gets a tiny bounded vmas::skeletonize, as the CLI runs it. Aborts when a promise is broken: a
+// reader throwing anything but a one-line IoError naming the file, a count not met without an
+// error, a non-finite sphere, an index out of range, labels not one per input point. Run by
 // scripts/fuzz.
-#include <omp.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -16,8 +16,7 @@
 
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
-#include "vmas/prepare.hpp"
-#include "vmas/skeletonizer.hpp"
+#include "vmas/vmas.hpp"
 
 namespace {
 
@@ -56,25 +55,21 @@ void check_medial_mesh(const vmas::MedialMesh& mesh) {
   check_indices(mesh.faces, mesh.spheres.size(), "face index out of range");
 }
 
-void skeletonize(vmas::SurfaceInput input) {
+// The one call the CLI makes, bounded: the file as stored (NaN points and all), 4 spheres.
+void skeletonize_bounded(const vmas::SurfaceInput& input) {
   try {
-    // As the CLI does: outliers, noise, normals, then the run.
-    const vmas::PrepareReport prepared = vmas::prepare_surface(input, {});
-    vmas::SkeletonizerOptions options;
-    options.target_spheres = 4;
-    options.max_iterations = 20;
-    vmas::adapt_shrinking_ball(prepared, options.shrinking_ball);
-    vmas::Skeletonizer skeletonizer(vmas::build_shape(input, {}), options);
-    skeletonizer.run();
-    const vmas::MedialMesh mesh = prepared.frame.to_input(skeletonizer.medial_mesh());
-    check(mesh.spheres.size() <= 4, "more spheres than asked");
+    vmas::Options options;
+    options.spheres = 4;
+    options.threads = 1;  // the machine is shared; results do not depend on it
+    options.run.max_iterations = 20;
+    const vmas::Result result = vmas::skeletonize(input, options);
+    const vmas::MedialMesh& mesh = result.medial_mesh;
+    check(mesh.spheres.size() == 4, "not the sphere count asked for");
     check_medial_mesh(mesh);
     for (const vmas::Sphere& sphere : mesh.spheres) check(sphere.radius >= 0.0, "negative radius");
-    check(skeletonizer.labels().size() == skeletonizer.shape().points.size(),
-          "not one label per vertex");
-    for (int label : skeletonizer.labels())
-      check(label >= 0 && static_cast<std::size_t>(label) < mesh.spheres.size(),
-            "label out of range");
+    check(result.labels.size() == input.points.size(), "not one label per input point");
+    for (int label : result.labels)
+      check(label >= -1 && label < static_cast<int>(mesh.spheres.size()), "label out of range");
   } catch (const vmas::Error& error) {
     check(std::string(error.what()).find('\n') == std::string::npos,
           "error of more than one line:", error.what());
@@ -84,7 +79,6 @@ void skeletonize(vmas::SurfaceInput input) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  omp_set_num_threads(1);  // the machine is shared; results do not depend on it
   input_path();  // constructed first, so destroyed after the handler below has run
   std::atexit([] { std::filesystem::remove(input_path()); });
   return 0;
@@ -106,7 +100,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check(!input.has_normals() || input.normals.size() == input.points.size(),
           "not one normal per point");
     check_indices(input.faces, input.points.size(), "face index out of range");
-    if (input.points.size() >= 20) skeletonize(std::move(input));
+    // The CLI's way: the file as stored, cleaned inside the one call.
+    if (input.points.size() >= 20) skeletonize_bounded(vmas::read_surface_as_stored(input_path()));
   } catch (const vmas::IoError& error) {
     check_error_names_file(error);
   }
