@@ -17,6 +17,7 @@ namespace {
 
 const char* kDescription =
     "usage: vmas eval SHAPE MEDIAL [--json] [--samples N] [--seed S] [--errors FILE]\n"
+    "                 [--medial-errors FILE]\n"
     "\n"
     "Two-sided Hausdorff distance between SHAPE (a mesh or point cloud) and the reconstruction\n"
     "of MEDIAL (.ply or .ma): the union of its spheres, of the round cones of its edges and of\n"
@@ -53,7 +54,7 @@ std::string number(double value) {
 int eval_command(int argc, const char* const* argv) {
   const EvalOptions defaults;
   EvalOptions options;
-  std::string shape_path, medial_path, errors_path;
+  std::string shape_path, medial_path, errors_path, medial_errors_path;
   int threads = 0;
   po::options_description visible(kDescription);
   // clang-format off
@@ -69,6 +70,9 @@ int eval_command(int argc, const char* const* argv) {
        "distance between samples on the primitives' boundaries (fraction of the diagonal)")
       ("errors", po::value(&errors_path),
        "write the surface-to-medial distance of every input point to FILE, one per line")
+      ("medial-errors", po::value(&medial_errors_path),
+       "write the medial-to-surface distance of every visible sample on the reconstruction's "
+       "boundary to FILE, one 'x y z distance' line each, after '#' lines giving the summary")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)");
   // clang-format on
   po::options_description hidden;
@@ -81,7 +85,8 @@ int eval_command(int argc, const char* const* argv) {
   po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
     std::cout << visible
-              << "\nexample: vmas eval armadillo.off armadillo.ply --errors armadillo_err.txt\n";
+              << "\nexample: vmas eval armadillo.off armadillo.ply --errors armadillo_err.txt"
+                 " --medial-errors armadillo_medial_err.txt\n";
     return 0;
   }
   po::notify(vm);
@@ -101,6 +106,22 @@ int eval_command(int argc, const char* const* argv) {
       text += line;
     }
     write_file_atomically(errors_path, text);
+  }
+  if (!medial_errors_path.empty()) {
+    std::string text = "# diagonal " + number(result.diagonal) + " hausdorff " +
+                       number(result.hausdorff) + " surface_to_medial_max " +
+                       number(result.surface_to_medial_max) + " surface_to_medial_mean " +
+                       number(result.surface_to_medial_mean) + " medial_to_surface_max " +
+                       number(result.medial_to_surface_max) + " medial_to_surface_mean " +
+                       number(result.medial_to_surface_mean) + "\n# x y z distance\n";
+    char line[128];
+    for (std::size_t i = 0; i < result.boundary_samples.size(); ++i) {
+      const Vec3& p = result.boundary_samples[i];
+      std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g\n", p.x(), p.y(), p.z(),
+                    result.boundary_error[i]);
+      text += line;
+    }
+    write_file_atomically(medial_errors_path, text);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -138,7 +159,8 @@ int eval_command(int argc, const char* const* argv) {
             << " %, mean " << number(result.percent(result.medial_to_surface_mean)) << " % ("
             << result.boundary_sample_count << " samples)\n"
             << "time: " << number(seconds) << " s"
-            << (errors_path.empty() ? "" : "; wrote " + errors_path) << "\n";
+            << (errors_path.empty() ? "" : "; wrote " + errors_path)
+            << (medial_errors_path.empty() ? "" : "; wrote " + medial_errors_path) << "\n";
   return 0;
 }
 

@@ -701,6 +701,10 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
       envelope.sample_around(boundary.points[i], boundary.pieces[i], spacing, spacing / 4, finer);
     }
     spacing /= 4;
+    if (round == 0) {  // done with the uniform samples: they go to the caller
+      result.boundary_samples = std::move(boundary.points);
+      result.boundary_error = std::move(to_surface);
+    }
     boundary = envelope.visible(finer, tolerance);
     to_surface = distance(boundary.points);
     for (double d : to_surface)

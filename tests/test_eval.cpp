@@ -4,8 +4,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
 #include <random>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "test_shapes.hpp"
@@ -127,7 +133,9 @@ TEST(EvalGeometry, RoundConeMatchesBruteForce) {
       const double support = hull_signed_distance(p, {a, b});
       EXPECT_GE(value, support - 1e-12);
       EXPECT_LE(value, support + 5e-4);
-      if (value > 0.0) EXPECT_NEAR(value, interpolated_distance(p, {a, b}, 20000), 1e-6);
+      if (value > 0.0) {
+        EXPECT_NEAR(value, interpolated_distance(p, {a, b}, 20000), 1e-6);
+      }
       inside += value < 0.0;
     }
   }
@@ -372,6 +380,68 @@ TEST(Eval, AcceleratedDistancesEqualBruteForce) {
   // distance is 1-Lipschitz).
   EXPECT_GE(result.medial_to_surface_max, max);
   EXPECT_LE(result.medial_to_surface_max, max + options.boundary_spacing * result.diagonal);
+}
+
+// The medial -> surface side sample by sample: evaluate() exposes the visible boundary samples
+// and their distances to the input, and `vmas eval --medial-errors` writes exactly those.
+TEST(Eval, BoundarySamplesAndTheirDistancesAreExposed) {
+  SurfaceInput cloud = test::icosphere(Vec3::Zero(), 1.0, 2);
+  cloud.faces.clear();  // a cloud: the distance is to the nearest point, easy to check
+  cloud.normals.clear();
+  const MedialMesh medial = random_medial(3);
+  EvalOptions options;
+  options.boundary_spacing = 0.01;
+  const EvalResult result = evaluate(cloud, medial, options);
+  const double spacing = options.boundary_spacing * result.diagonal;
+  ASSERT_EQ(result.boundary_samples.size(), result.boundary_sample_count);
+  ASSERT_EQ(result.boundary_samples,
+            envelope_samples(medial, spacing, options.inside_tolerance * result.diagonal));
+  ASSERT_EQ(result.boundary_error.size(), result.boundary_sample_count);
+  double max = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < result.boundary_samples.size(); ++i) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& p : cloud.points)
+      nearest = std::min(nearest, (p - result.boundary_samples[i]).norm());
+    ASSERT_NEAR(result.boundary_error[i], nearest, 1e-12) << "sample " << i;
+    max = std::max(max, nearest);
+    sum += nearest;
+  }
+  EXPECT_NEAR(result.medial_to_surface_mean, sum / result.boundary_sample_count, 1e-12);
+  EXPECT_GE(result.medial_to_surface_max, max);
+  EXPECT_LE(result.medial_to_surface_max, max + spacing);
+
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "vmas_eval_medial_errors";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_surface((dir / "cloud.off").string(), cloud);  // exact round trips
+  write_medial_mesh((dir / "medial.ma").string(), medial);
+  const std::string command = std::string(VMAS_CLI) + " eval " + (dir / "cloud.off").string() +
+                              " " + (dir / "medial.ma").string() + " --medial-errors " +
+                              (dir / "errors.txt").string() + " --spacing 0.01 > " + (dir / "out").string();
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ifstream in(dir / "errors.txt");
+  std::string line, summary;
+  std::size_t row = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind('#', 0) == 0) {
+      summary += line;
+      continue;
+    }
+    ASSERT_LT(row, result.boundary_sample_count);
+    std::istringstream values(line);
+    double x, y, z, distance;
+    ASSERT_TRUE(values >> x >> y >> z >> distance) << line;
+    const Vec3& q = result.boundary_samples[row];
+    EXPECT_NEAR((Vec3(x, y, z) - q).norm(), 0.0, 1e-8) << line;
+    EXPECT_NEAR(distance, result.boundary_error[row], 1e-8) << line;
+    ++row;
+  }
+  EXPECT_EQ(row, result.boundary_sample_count);
+  std::ostringstream expected;
+  expected << "medial_to_surface_max " << std::setprecision(6) << result.medial_to_surface_max;
+  EXPECT_NE(summary.find(expected.str()), std::string::npos) << summary;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Eval, DeterministicAcrossThreadCounts) {

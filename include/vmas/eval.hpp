@@ -43,6 +43,11 @@ struct EvalResult {
   std::size_t boundary_sample_count = 0;  // visible uniform samples on the primitives' boundaries
   // Surface -> medial distance of every input point (for colour maps).
   std::vector<double> vertex_error;
+  // Medial -> surface: the boundary_sample_count visible samples, boundary_spacing apart, and
+  // the distance of each to the input. Their mean is medial_to_surface_mean; their maximum is at
+  // most medial_to_surface_max (refined around them) and less than a spacing below it.
+  std::vector<Vec3> boundary_samples;
+  std::vector<double> boundary_error;
 
   double percent(double length) const { return 100.0 * length / diagonal; }
 };
