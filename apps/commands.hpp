@@ -5,6 +5,7 @@ namespace vmas::cli {
 
 int skeletonize_command(int argc, const char* const* argv);
 int eval_command(int argc, const char* const* argv);
+int convert_command(int argc, const char* const* argv);
 
 // The --threads option of every subcommand: 0 keeps OpenMP's default (all cores).
 void set_threads(int threads);

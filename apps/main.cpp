@@ -30,7 +30,8 @@ constexpr const char* kUsage =
     "\n"
     "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
     "       vmas skeletonize INPUT... --output-dir DIR [options]\n"
-    "       vmas eval SHAPE MEDIAL [--json]\n"
+    "       vmas eval SHAPE MEDIAL [--json] [--errors FILE] [--medial-errors FILE]\n"
+    "       vmas convert INPUT OUTPUT [--medial]\n"
     "       vmas COMMAND --help\n"
     "       vmas --version\n";
 
@@ -49,6 +50,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "skeletonize") return vmas::cli::skeletonize_command(argc - 1, argv + 1);
     if (command == "eval") return vmas::cli::eval_command(argc - 1, argv + 1);
+    if (command == "convert") return vmas::cli::convert_command(argc - 1, argv + 1);
     std::cerr << "vmas: unknown command '" << command << "' (try: vmas --help)\n";
     return 2;
   } catch (const boost::program_options::error& e) {
