@@ -1,9 +1,9 @@
 """Small readers and writers for the files the vmas scripts handle (numpy only).
 
+Shapes in any other format are read by `vmas convert` (the library's own readers) into OFF,
+medial meshes by `vmas convert --medial` into .ma; scripts/render does so.
 Shared by scripts/bench and scripts/render:
   read_off(path)            -> (points (n,3), faces (f,3) int)   OFF / NOFF, comments, polygons fanned
-  read_xyz(path)            -> (points (n,3), normals (n,3) or None)
-  read_shape(path)          -> (points, faces or None) for .off .xyz .txt .ply (surface PLY)
   read_medial_ply(path)     -> MedialMesh (spheres (n,4) x y z r, edges (e,2), faces (f,3))
   read_ma(path)             -> MedialMesh from a Q-MAT / Coverage Axis .ma file
   read_medial(path)         -> either of the two by extension
@@ -30,7 +30,7 @@ class MedialMesh:
 
 
 # ---------------------------------------------------------------------------------------------
-# OFF / XYZ
+# OFF (read) and OFF / XYZ (written)
 
 
 def _tokens_without_comments(text):
@@ -62,13 +62,6 @@ def read_off(path):
         for k in range(1, count - 1):  # fan polygons into triangles
             faces.append((ids[0], ids[k], ids[k + 1]))
     return points, np.array(faces, dtype=np.int64).reshape(-1, 3)
-
-
-def read_xyz(path):
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    if data.shape[1] >= 6:
-        return data[:, :3].copy(), data[:, 3:6].copy()
-    return data[:, :3].copy(), None
 
 
 def write_xyz(path, points, normals=None):
@@ -219,26 +212,6 @@ def read_ma(path):
 
 def read_medial(path):
     return read_ma(path) if str(path).lower().endswith(".ma") else read_medial_ply(path)
-
-
-def read_shape(path):
-    """Points and triangles (None for a cloud) of an input shape."""
-    lower = str(path).lower()
-    if lower.endswith(".off"):
-        return read_off(path)
-    if lower.endswith(".xyz") or lower.endswith(".txt"):
-        return read_xyz(path)[0], None
-    if lower.endswith(".ply"):
-        ply = read_ply(path)
-        v = ply["vertex"]
-        points = np.column_stack([np.asarray(v[k], np.float64) for k in ("x", "y", "z")])
-        faces = None
-        lists = _first_key(ply.get("face", {}), ("vertex_indices", "vertex_index"))
-        if lists:
-            faces = np.array([(ids[0], ids[k], ids[k + 1]) for ids in lists
-                              for k in range(1, len(ids) - 1)], np.int64).reshape(-1, 3)
-        return points, faces
-    raise ValueError(f"{path}: unsupported shape format (expected .off, .xyz, .txt or .ply)")
 
 
 def read_errors(path):
