@@ -51,7 +51,7 @@ TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
   Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 10000, 4);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> box(-1.0, 1.0);
-  for (int i = 0; i < 100; ++i) s.points.emplace_back(box(rng), box(rng), box(rng));
+  for (int i = 0; i < 100; ++i) s.points.push_back(test::draw_xyz([&] { return box(rng); }));
   // Strays that happen to fall near the sphere are no outliers; count the others.
   int far_strays = 0;
   for (int i = 10000; i < 10100; ++i) far_strays += std::abs(s.points[i].norm() - 1.0) > 0.1;

@@ -81,7 +81,7 @@ struct Random {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
   }
   Vec3 point(double extent) {
-    return Vec3(uniform(-extent, extent), uniform(-extent, extent), uniform(-extent, extent));
+    return test::draw_xyz([&] { return uniform(-extent, extent); });
   }
   Sphere sphere() { return {point(1.0), uniform(0.05, 0.6)}; }
 };

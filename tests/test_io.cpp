@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
@@ -75,8 +76,12 @@ SurfaceInput random_cloud(int count, bool normals) {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   SurfaceInput cloud;
   for (int i = 0; i < count; ++i) {
-    cloud.points.emplace_back(uniform(rng), uniform(rng), uniform(rng));
-    if (normals) cloud.normals.push_back(Vec3(uniform(rng), uniform(rng), 2.0).normalized());
+    cloud.points.push_back(test::draw_xyz([&] { return uniform(rng); }));
+    if (normals) {
+      const double x = uniform(rng);
+      const double y = uniform(rng);
+      cloud.normals.push_back(Vec3(x, y, 2.0).normalized());
+    }
   }
   return cloud;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 
+#include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -15,7 +16,7 @@ std::vector<Vec3> random_points(int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   std::vector<Vec3> points(count);
-  for (auto& p : points) p = Vec3(uniform(rng), uniform(rng), uniform(rng));
+  for (auto& p : points) p = test::draw_xyz([&] { return uniform(rng); });
   return points;
 }
 

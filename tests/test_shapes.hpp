@@ -100,6 +100,17 @@ inline SurfaceInput capsule(double radius, double length, int rings, int sides) 
   return s;
 }
 
+// Three calls of `draw` as x, y and z, in this order. The order in which a call's arguments are
+// evaluated is unspecified: g++ evaluated Vec3(draw(), draw(), draw()) right to left and clang++
+// left to right, so that the same seed gave the two compilers different shapes.
+template <class Draw>
+Vec3 draw_xyz(Draw&& draw) {
+  const double x = draw();
+  const double y = draw();
+  const double z = draw();
+  return Vec3(x, y, z);
+}
+
 // Random samples with their exact outward normals, of shapes built in code (fixed seeds).
 struct Sample {
   std::vector<Vec3> points;
@@ -108,7 +119,7 @@ struct Sample {
 
 inline Vec3 random_unit(std::mt19937& rng) {
   std::normal_distribution<double> gauss;
-  return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+  return draw_xyz([&] { return gauss(rng); }).normalized();
 }
 
 inline Sample sample_sphere(const Vec3& center, double radius, int count, unsigned seed) {
@@ -132,7 +143,7 @@ inline Sample sample_box(const Vec3& size, int count, unsigned seed) {
   for (int i = 0; i < count; ++i) {
     const int axis = pick_axis(rng);
     const bool high = uniform(rng) < 0.5;
-    Vec3 p(uniform(rng) * size.x(), uniform(rng) * size.y(), uniform(rng) * size.z());
+    Vec3 p = draw_xyz([&] { return uniform(rng); }).cwiseProduct(size);
     p[axis] = high ? size[axis] : 0.0;
     Vec3 n = Vec3::Zero();
     n[axis] = high ? 1.0 : -1.0;
@@ -194,7 +205,7 @@ inline Sample sample_capsule(double radius, double length, int count, unsigned s
 inline std::vector<Vec3> with_noise(std::vector<Vec3> points, double sigma, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, sigma);
-  for (Vec3& p : points) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+  for (Vec3& p : points) p += draw_xyz([&] { return gauss(rng); });
   return points;
 }
 

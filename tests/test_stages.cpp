@@ -20,9 +20,10 @@ TEST(Sqem, MatchesSquaredPlaneDistanceAndIsZeroOnTangentSphere) {
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
   for (int trial = 0; trial < 50; ++trial) {
-    const Vec3 point(gauss(rng), gauss(rng), gauss(rng));
-    const Vec3 normal = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
-    const Sphere sphere{Vec3(gauss(rng), gauss(rng), gauss(rng)), std::abs(gauss(rng))};
+    const auto draw = [&] { return gauss(rng); };
+    const Vec3 point = test::draw_xyz(draw);
+    const Vec3 normal = test::draw_xyz(draw).normalized();
+    const Sphere sphere{test::draw_xyz(draw), std::abs(gauss(rng))};
     const double plane_distance = normal.dot(point - sphere.center) - sphere.radius;
     EXPECT_NEAR(Sqem::plane(point, normal)(sphere), plane_distance * plane_distance, 1e-9);
     // A sphere tangent to the plane from the inside has zero error.
@@ -123,7 +124,8 @@ TEST(Partition, StartingFromPreviousLabelsStillFindsTheMinimum) {
   std::vector<Sphere> spheres;
   for (int i = 0; i < 40; ++i)
     spheres.push_back(
-        {Vec3(uniform(rng), uniform(rng), 0.2 * uniform(rng)), 0.2 + 0.1 * uniform(rng)});
+        {test::draw_xyz([&] { return uniform(rng); }).cwiseProduct(Vec3(1.0, 1.0, 0.2)),
+         0.2 + 0.1 * uniform(rng)});
   std::vector<int> labels;
   std::vector<double> energies;
   for (int round = 0; round < 3; ++round) {
@@ -135,7 +137,7 @@ TEST(Partition, StartingFromPreviousLabelsStillFindsTheMinimum) {
           best = m;
       ASSERT_EQ(labels[v], best);
     }
-    for (Sphere& s : spheres) s.center += 0.05 * Vec3(uniform(rng), uniform(rng), uniform(rng));
+    for (Sphere& s : spheres) s.center += 0.05 * test::draw_xyz([&] { return uniform(rng); });
   }
 }
 
@@ -147,7 +149,7 @@ TEST(Update, EnergyNeverIncreasesAndFitsTheSphere) {
   std::mt19937 rng(5);
   std::normal_distribution<double> gauss(0.0, 0.3);
   for (int trial = 0; trial < 20; ++trial) {
-    Sphere sphere{center + Vec3(gauss(rng), gauss(rng), gauss(rng)), 0.5 + std::abs(gauss(rng))};
+    Sphere sphere{center + test::draw_xyz([&] { return gauss(rng); }), 0.5 + std::abs(gauss(rng))};
     double energy = cluster_energy(shape, all, sphere, 0.2);
     for (int round = 0; round < 5; ++round) {
       UpdateOptions one_step;
