@@ -89,19 +89,24 @@ struct Settings {
 };
 
 // The run's summary as data: printed as JSON, or read by print_summary().
-json summarize(const Job& job, const SurfaceInput& input, const Result& result, double read_seconds,
+// What was read, before the run consumed it.
+struct InputSize {
+  std::size_t points = 0, faces = 0;
+};
+
+json summarize(const Job& job, const InputSize& input, const Result& result, double read_seconds,
                double write_seconds, const EvalResult* eval) {
   const PrepareReport& prepared = result.prepare;
   const double diagonal = prepared.diagonal * prepared.frame.scale;
-  const std::string normals = input.is_mesh()              ? "from faces"
+  const std::string normals = input.faces > 0              ? "from faces"
                               : prepared.normals_estimated ? "estimated"
                               : prepared.normals_oriented  ? "re-oriented"
                                                            : "given";
   json summary = {{"vmas", version()},
                   {"input", job.input},
                   {"output", job.output},
-                  {"points", input.points.size()},
-                  {"faces", input.faces.size()},
+                  {"points", input.points},
+                  {"faces", input.faces},
                   {"normals", normals},
                   {"cleaned",
                    {{"non_finite_points", result.clean.non_finite_points},
@@ -240,11 +245,19 @@ ProgressCallback terminal_progress(const std::string& input, bool show) {
 // the file.
 json run_one(const Job& job, const Settings& settings, bool show_progress) {
   const auto start = Clock::now();
-  const SurfaceInput surface = read_surface_as_stored(job.input);
+  SurfaceInput surface = read_surface_as_stored(job.input);
   const double read_seconds = seconds_since(start);
+  const InputSize size{surface.points.size(), surface.faces.size()};
+  // The metric compares with the cleaned input; without it the run may consume the surface.
+  SurfaceInput cleaned;
+  if (settings.eval) {
+    cleaned = surface;
+    clean_surface(cleaned);
+  }
   Result result;
   try {
-    result = skeletonize(surface, settings.options, terminal_progress(job.input, show_progress));
+    result = skeletonize(std::move(surface), settings.options,
+                         terminal_progress(job.input, show_progress));
   } catch (const InvalidInput& e) {
     if (show_progress) std::fprintf(stderr, "\n");
     throw InvalidInput(job.input + ": " + e.what());
@@ -256,11 +269,9 @@ json run_one(const Job& job, const Settings& settings, bool show_progress) {
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
-  if (!settings.eval) return summarize(job, surface, result, read_seconds, write_seconds, nullptr);
-  SurfaceInput cleaned = surface;
-  clean_surface(cleaned);
+  if (!settings.eval) return summarize(job, size, result, read_seconds, write_seconds, nullptr);
   const EvalResult eval = evaluate(cleaned, result.medial_mesh);
-  return summarize(job, surface, result, read_seconds, write_seconds, &eval);
+  return summarize(job, size, result, read_seconds, write_seconds, &eval);
 }
 
 // Fails before any work is done when an output cannot possibly be written (a usage error).

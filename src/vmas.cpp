@@ -113,8 +113,7 @@ void Options::validate() const {
   prepare.validate();
 }
 
-Result skeletonize(const SurfaceInput& input, const Options& options,
-                   const ProgressCallback& progress) {
+Result skeletonize(SurfaceInput input, const Options& options, const ProgressCallback& progress) {
   options.validate();
   const ThreadCount threads(options.threads);
   const auto start = Clock::now();
@@ -128,7 +127,8 @@ Result skeletonize(const SurfaceInput& input, const Options& options,
   check_cancel();
 
   Result result;
-  SurfaceInput surface = input;
+  const std::size_t input_points = input.points.size();
+  SurfaceInput surface = std::move(input);
   result.clean = clean_surface(surface);
   if (surface.points.empty()) throw InvalidInput("no usable points");
   result.seconds.clean = seconds_since(start);
@@ -161,7 +161,7 @@ Result skeletonize(const SurfaceInput& input, const Options& options,
   result.enclosure = skeletonizer.projector().enclosure();
 
   // Labels of the shape's vertices, back through preparation and cleaning to the input.
-  result.labels.assign(input.points.size(), -1);
+  result.labels.assign(input_points, -1);
   const std::vector<int>& labels = skeletonizer.labels();
   for (std::size_t i = 0; i < labels.size(); ++i)
     result.labels[result.clean.kept[result.prepare.kept[i]]] = labels[i];

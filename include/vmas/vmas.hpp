@@ -76,12 +76,13 @@ struct Cancelled : Error {
   Cancelled() : Error("cancelled") {}
 };
 
-// Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed).
+// Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed), taken
+// by value: std::move a surface you no longer need to spare a copy of a big scan.
 // `progress` is called once while preparing and after every step and final refit, from the
 // calling thread; returning false cancels (throws Cancelled). Throws InvalidOption for bad
 // options, InvalidInput for data that cannot give the skeleton asked for (too few usable
 // points, a count that cannot be met).
-Result skeletonize(const SurfaceInput& input, const Options& options = {},
+Result skeletonize(SurfaceInput input, const Options& options = {},
                    const ProgressCallback& progress = {});
 
 }  // namespace vmas
