@@ -1,6 +1,5 @@
 // The `vmas` command line: exit codes, one-line errors, no output left behind on failure.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <filesystem>
@@ -9,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.hpp"
 #include "test_shapes.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
@@ -18,43 +18,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string out, err;
-};
+using Result = test::CliResult;
+using test::expect_one_line_error;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vmas_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& arguments) const {
-    const std::string command = std::string(VMAS_CLI) + " " + arguments + " > " +
-                                (dir_ / "stdout").string() + " 2> " + (dir_ / "stderr").string();
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir_ / "stdout"),
-            read_text(dir_ / "stderr")};
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir_ / name) << text;
-  }
-
   // Files in the folder besides the captured streams.
   std::size_t file_count() const {
     std::size_t count = 0;
@@ -63,15 +31,14 @@ class Cli : public ::testing::Test {
     return count;
   }
 
-  fs::path dir_;
+  // A 20 x 20 grid of a flat square with its normals: data that encloses nothing.
+  void write_plane(const std::string& name) const {
+    std::ostringstream plane;
+    for (int i = 0; i < 20; ++i)
+      for (int j = 0; j < 20; ++j) plane << i * 0.05 << " " << j * 0.05 << " 0 0 0 1\n";
+    write(name, plane.str());
+  }
 };
-
-// A one-line error on stderr that names `what`.
-void expect_one_line_error(const Result& r, const std::string& what) {
-  EXPECT_FALSE(r.err.empty());
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << r.err;
-}
 
 TEST_F(Cli, SkeletonizesAMeshAndWritesLabels) {
   write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
@@ -126,14 +93,14 @@ TEST_F(Cli, VersionAndJsonSummaryWithEval) {
   EXPECT_TRUE(summary["warnings"].empty());
   EXPECT_GT(summary["eval"]["hausdorff_percent"].get<double>(), 0.0);
   EXPECT_LT(summary["eval"]["hausdorff_percent"].get<double>(), 10.0);
-  EXPECT_GE(summary["seconds"]["total"].get<double>(), summary["seconds"]["prepare"].get<double>());
+  // Timings are reported, not judged here (scripts/bench measures them): every stage is listed.
+  for (const char* stage : {"read", "clean", "prepare", "shape", "partition", "update",
+                            "projection", "split", "connectivity", "write", "total"})
+    EXPECT_TRUE(summary["seconds"].contains(stage)) << stage;
 }
 
 TEST_F(Cli, WarningsAreInTheJsonToo) {
-  std::ostringstream plane;
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j) plane << i * 0.05 << " " << j * 0.05 << " 0 0 0 1\n";
-  write("plane.xyz", plane.str());
+  write_plane("plane.xyz");
   const Result r = run("skeletonize " + path("plane.xyz") + " -n 3 --json -o " + path("out.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto warnings = nlohmann::json::parse(r.out)["warnings"];
@@ -319,10 +286,7 @@ TEST_F(Cli, ReorientsInwardNormalsOnRequest) {
 }
 
 TEST_F(Cli, OpenSurfaceGetsAWarning) {
-  std::ostringstream plane;
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j) plane << i * 0.05 << " " << j * 0.05 << " 0 0 0 1\n";
-  write("plane.xyz", plane.str());
+  write_plane("plane.xyz");
   const Result r = run("skeletonize " + path("plane.xyz") + " --spheres 3 -o " + path("out.ply"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
