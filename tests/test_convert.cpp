@@ -1,13 +1,11 @@
 // `vmas convert`: any format vmas reads, written as the cleaned shape (or medial mesh) it reads.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
+#include "cli_fixture.hpp"
 #include "vmas/io.hpp"
 
 namespace vmas {
@@ -15,38 +13,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class Convert : public ::testing::Test {
+class Convert : public test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vmas_convert_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // Runs `vmas convert ARGUMENTS`; returns the exit code, stderr in err_.
   int convert(const std::string& arguments) {
-    const std::string command = std::string(VMAS_CLI) + " convert " + arguments + " > " +
-                                path("stdout") + " 2> " + path("stderr");
-    const int status = std::system(command.c_str());
-    std::ifstream in(path("stderr"));
-    std::stringstream text;
-    text << in.rdbuf();
-    err_ = text.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    last_ = run("convert " + arguments);
+    err_ = last_.err;
+    return last_.exit_code;
   }
 
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  // One line on stderr that names `what`.
   void expect_one_line_error(const std::string& what) const {
-    EXPECT_EQ(err_.find('\n'), err_.size() - 1) << err_;
-    EXPECT_NE(err_.find(what), std::string::npos) << err_;
+    test::expect_one_line_error(last_, what);
   }
 
-  fs::path dir_;
+  test::CliResult last_;
   std::string err_;
 };
 
