@@ -10,6 +10,17 @@
 #include "vmas/error.hpp"
 
 namespace vmas {
+namespace {
+
+// `n` scaled to length 1. A normal already of length 1 to rounding is kept as it is: dividing
+// by a norm one ulp off moves its last bits, and cleaning twice must change nothing (such bits
+// are enough to move a skeleton).
+Vec3 unit(const Vec3& n) {
+  const double norm = n.stableNorm();
+  return std::abs(norm - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon() ? n : n / norm;
+}
+
+}  // namespace
 
 CleanReport clean_surface(SurfaceInput& surface) {
   CleanReport report;
@@ -97,8 +108,7 @@ CleanReport clean_surface(SurfaceInput& surface) {
     new_index[i] = static_cast<int>(cleaned.points.size());
     report.kept.push_back(static_cast<int>(i));
     cleaned.points.push_back(points[i]);
-    if (with_normals)
-      cleaned.normals.push_back(surface.normals[i] / surface.normals[i].stableNorm());
+    if (with_normals) cleaned.normals.push_back(unit(surface.normals[i]));
   }
   for (const auto& corners : faces)
     cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});

@@ -501,6 +501,23 @@ TEST(IoClean, RejectsInfiniteAndOverflowingCoordinates) {
   EXPECT_EQ(clean_surface(edge).total(), 0u);
 }
 
+TEST(IoClean, CleaningTwiceChangesNothing) {
+  // Normals of arbitrary length, normalised once; a second pass must keep every bit.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  SurfaceInput cloud;
+  for (int i = 0; i < 2000; ++i) {
+    cloud.points.push_back(Vec3(i, 0.5 * i, 0.25 * i));
+    cloud.normals.push_back(3.7 * Vec3(uniform(rng), uniform(rng), uniform(rng)));
+  }
+  clean_surface(cloud);
+  const SurfaceInput once = cloud;
+  const CleanReport again = clean_surface(cloud);
+  EXPECT_EQ(again.total(), 0u);
+  EXPECT_EQ(cloud.points, once.points);
+  EXPECT_EQ(cloud.normals, once.normals);
+}
+
 TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndDropsZeroNormals) {
   SurfaceInput cloud;
   cloud.points = {Vec3(3, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0), Vec3(0, 0, 0)};
