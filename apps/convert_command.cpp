@@ -30,16 +30,13 @@ int convert_command(int argc, const char* const* argv) {
   std::string input, output;
   po::options_description visible(kDescription);
   visible.add_options()("help,h", "print this help")(
-      "medial", "INPUT and OUTPUT are medial meshes (.ply or .ma)")(
-      "quiet,q", "print nothing but errors");
+      "medial", "INPUT and OUTPUT are medial meshes (.ply or .ma)")("quiet,q",
+                                                                    "print nothing but errors");
   po::options_description hidden;
   hidden.add_options()("input", po::value(&input))("output", po::value(&output));
-  po::options_description all;
-  all.add(visible).add(hidden);
   po::positional_options_description positional;
   positional.add("input", 1).add("output", 1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
   if (vm.count("help")) {
     std::cout << visible << "\nexample: vmas convert scan.pcd scan.off\n";
     return 0;

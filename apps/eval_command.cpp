@@ -77,12 +77,9 @@ int eval_command(int argc, const char* const* argv) {
   // clang-format on
   po::options_description hidden;
   hidden.add_options()("shape", po::value(&shape_path))("medial", po::value(&medial_path));
-  po::options_description all;
-  all.add(visible).add(hidden);
   po::positional_options_description positional;
   positional.add("shape", 1).add("medial", 1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
   if (vm.count("help")) {
     std::cout << visible
               << "\nexample: vmas eval armadillo.off armadillo.ply --errors armadillo_err.txt"

@@ -14,6 +14,18 @@
 
 namespace vmas::cli {
 
+boost::program_options::variables_map parse_arguments(
+    int argc, const char* const* argv, const boost::program_options::options_description& visible,
+    const boost::program_options::options_description& hidden,
+    const boost::program_options::positional_options_description& positional) {
+  namespace po = boost::program_options;
+  po::options_description all;
+  all.add(visible).add(hidden);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  return vm;
+}
+
 void set_threads(int threads) {
   if (threads < 0) throw InvalidOption("--threads must be 0 or more");
 #ifdef _OPENMP

@@ -393,12 +393,9 @@ int skeletonize_command(int argc, const char* const* argv) {
   // clang-format on
   po::options_description hidden;
   hidden.add_options()("input", po::value(&inputs));
-  po::options_description all;
-  all.add(visible).add(hidden);
   po::positional_options_description positional;
   positional.add("input", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
   if (vm.count("help")) {
     std::cout << visible
               << "\nexamples:\n"

@@ -22,10 +22,6 @@ struct CleanReport {
   std::size_t total() const {
     return non_finite_points + duplicate_points + degenerate_faces + unused_points;
   }
-  // Points of the surface as given (kept ones plus the removed ones).
-  std::size_t input_points() const {
-    return kept.size() + non_finite_points + duplicate_points + unused_points;
-  }
 };
 
 // Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,

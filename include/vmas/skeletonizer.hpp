@@ -102,9 +102,8 @@ class Skeletonizer {
   void repartition();                   // partition, then refresh members and errors
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
-  void refresh_errors(bool spheres_moved);
-  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere  // E(C)
-                                        // and the total; E_v too if spheres moved
+  void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
+  void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
   bool wants_more_spheres() const;
   void check_id(int id) const;
 
