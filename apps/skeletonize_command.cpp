@@ -113,6 +113,10 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                     {"duplicate_points", result.clean.duplicate_points},
                     {"degenerate_faces", result.clean.degenerate_faces},
                     {"unused_vertices", result.clean.unused_points}}},
+                  {"thinning",
+                   {{"applied", prepared.thinned_from > 0},
+                    {"points", prepared.kept.size() + prepared.outliers},
+                    {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
                   {"outliers", prepared.outliers},
                   {"noise",
                    {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
@@ -172,6 +176,11 @@ void print_summary(const json& s, const Settings& settings) {
     std::cout << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
               << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
               << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
+  const json& thinning = s["thinning"];
+  if (thinning["applied"].get<bool>())
+    std::cout << "thinned: " << thinning["points"] << " points take part (one per voxel of "
+              << thinning["voxel_percent"] << " % of the diagonal; --max-points "
+              << settings.options.prepare.max_points << ")\n";
   if (s["outliers"].get<int>() > 0)
     std::cout << "outliers: removed " << s["outliers"] << " points\n";
   if (noise["measured"].get<bool>())
@@ -354,6 +363,10 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("normal-k", po::value(&options.prepare.normals.k)
            ->default_value(defaults.prepare.normals.k),
        "neighbours used to estimate and orient normals of clouds that have none")
+      ("max-points", po::value(&options.prepare.max_points)
+           ->default_value(defaults.prepare.max_points),
+       "a cloud with more points is thinned to about this many, one per voxel, for the run; "
+       "every point still gets a label (0: every point takes part)")
       ("estimate-normals", "estimate normals even if the file has them")
       ("denoise", po::value(&denoise)->default_value("auto"),
        "auto: measure the scan noise and, if there is any, remove outliers and smooth the "

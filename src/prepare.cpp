@@ -25,6 +25,8 @@ void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
 constexpr std::size_t kMinPointsForNoise = 16;
 // A deviation from the smoothed surface this much above the first estimate replaces it.
 constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
+// Fewer points than this would starve the optimisation: a budget below is a mistake.
+constexpr int kMinMaxPoints = 1000;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
 
@@ -68,6 +70,10 @@ MedialMesh Frame::to_input(MedialMesh mesh) const {
 }
 
 void PrepareOptions::validate() const {
+  if (max_points != 0 && max_points < kMinMaxPoints)
+    throw InvalidOption("max-points", "must be 0 (every point) or at least " +
+                                          std::to_string(kMinMaxPoints) + " (got " +
+                                          std::to_string(max_points) + ")");
   if (denoise == Denoise::Fixed && !(noise_sigma >= 0.0 && noise_sigma < 0.5))
     throw InvalidOption("denoise",
                         "deviation must be in [0, 0.5) of the bounding-box diagonal (got " +
@@ -82,17 +88,35 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   PrepareReport report;
   report.kept.resize(surface.points.size());
   std::iota(report.kept.begin(), report.kept.end(), 0);
+  report.stand_in = report.kept;
   report.frame = normalize(surface.points);
   const bool cloud = !surface.is_mesh();
   const bool denoise = options.denoise != PrepareOptions::Denoise::Off;
 
+  // Every later stage costs at least linear time in the points; a big cloud's detail below a
+  // few hundred points per sphere changes nothing but the time.
+  const auto budget = static_cast<std::size_t>(options.max_points);
+  if (cloud && budget > 0 && surface.points.size() > budget) {
+    const Subsample thin = subsample(surface.points, budget);
+    report.thinned_from = surface.points.size();
+    report.voxel = thin.leaf;
+    report.kept = thin.kept;
+    report.stand_in = thin.representative;
+    keep_only(surface.points, thin.kept);
+    keep_only(surface.normals, thin.kept);
+  }
   // Stray points far from the surface (scanner artefacts, registration leftovers) would each
   // stop shrinking balls and pull clusters; a mesh's vertices are never strays.
   if (cloud && denoise && options.remove_outliers) {
-    report.kept = inlier_indices(surface.points, options.noise);
-    report.outliers = surface.points.size() - report.kept.size();
-    keep_only(surface.points, report.kept);
-    keep_only(surface.normals, report.kept);
+    const std::vector<int> inliers = inlier_indices(surface.points, options.noise);
+    report.outliers = surface.points.size() - inliers.size();
+    std::vector<int> position(surface.points.size(), -1);
+    for (std::size_t j = 0; j < inliers.size(); ++j) position[inliers[j]] = static_cast<int>(j);
+    for (int& p : report.stand_in)
+      if (p >= 0) p = position[p];
+    keep_only(report.kept, inliers);
+    keep_only(surface.points, inliers);
+    keep_only(surface.normals, inliers);
   }
   report.diagonal = diagonal_of(bounding_box(surface.points));
 

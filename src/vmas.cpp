@@ -163,8 +163,9 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   // Labels of the shape's vertices, back through preparation and cleaning to the input.
   result.labels.assign(input_points, -1);
   const std::vector<int>& labels = skeletonizer.labels();
-  for (std::size_t i = 0; i < labels.size(); ++i)
-    result.labels[result.clean.kept[result.prepare.kept[i]]] = labels[i];
+  const std::vector<int>& stand_in = result.prepare.stand_in;
+  for (std::size_t i = 0; i < stand_in.size(); ++i)
+    if (stand_in[i] >= 0) result.labels[result.clean.kept[i]] = labels[stand_in[i]];
 
   result.warnings = warnings_about(result, surface, normals_given);
   const StageTimes& times = skeletonizer.times();

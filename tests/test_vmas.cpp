@@ -63,6 +63,37 @@ TEST(OneCall, LabelsIndexTheInputPointsWithMinusOneForDroppedOnes) {
   EXPECT_EQ(result.skeleton_components, 1);
 }
 
+TEST(OneCall, AThinnedCloudStillLabelsEveryInputPoint) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 12000, 43);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  Options options;
+  options.spheres = 8;
+  options.prepare.max_points = 3000;
+  const Result result = skeletonize(cloud, options);
+  EXPECT_EQ(result.prepare.thinned_from, 12000u);
+  EXPECT_LE(result.prepare.kept.size(), 3000u);
+  EXPECT_GT(result.prepare.voxel, 0.0);
+  ASSERT_EQ(result.labels.size(), cloud.points.size());
+  std::vector<int> sizes(8, 0);
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    const int label = result.labels[i];
+    ASSERT_GE(label, -1) << i;
+    ASSERT_LT(label, 8) << i;
+    if (label < 0) continue;
+    ++sizes[label];
+    // The label of a point that did not take part is its voxel's point's: its sphere is near.
+    const Sphere& sphere = result.medial_mesh.spheres[label];
+    EXPECT_LT((cloud.points[i] - sphere.center).norm() - sphere.radius, 0.1) << i;
+  }
+  for (int size : sizes) EXPECT_GT(size, 12000 / 8 / 10);
+  // Only the voxels of outliers lose their label.
+  EXPECT_LE(std::count(result.labels.begin(), result.labels.end(), -1),
+            static_cast<long>(20 * result.prepare.outliers));
+  options.prepare.max_points = 999;
+  EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
+}
+
 TEST(OneCall, ReportsEveryPhaseAndCancelsWhenTheCallbackSaysSo) {
   const SurfaceInput cloud = capsule_cloud();
   Options options;

@@ -7,12 +7,17 @@
 #include "vmas/denoise.hpp"
 #include "vmas/normals.hpp"
 #include "vmas/projection.hpp"
+#include "vmas/subsample.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
 
+// Clouds with more points are thinned to about this many (coarse-to-fine, see subsample.hpp).
+constexpr int kDefaultMaxPoints = 200000;
+
 struct PrepareOptions {
   enum class Denoise { Auto, Off, Fixed };
+  int max_points = kDefaultMaxPoints;  // clouds only; 0: every point takes part
   Denoise denoise = Denoise::Auto;  // Auto: measure the noise; Fixed: take `noise_sigma`
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
@@ -35,6 +40,10 @@ struct Frame {
 struct PrepareReport {
   Frame frame;                  // identity unless the input was far from the origin or outsized
   std::vector<int> kept;        // input index of every prepared point, ascending
+  std::vector<int> stand_in;    // for every input point: the prepared point that stands for it
+                                // (itself, or its voxel's point when thinned; −1: dropped)
+  std::size_t thinned_from = 0;  // points before thinning (0: not thinned)
+  double voxel = 0.0;            // edge of the thinning grid (absolute, prepared coordinates)
   std::size_t outliers = 0;     // points dropped as outliers
   NoiseEstimate noise;          // as measured (or given), before smoothing
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points

@@ -1,0 +1,115 @@
+#include "vmas/subsample.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+
+namespace vmas {
+
+namespace {
+
+// Cells per axis stay below 2^21, so that three cell coordinates pack into one 64-bit key.
+constexpr int kBitsPerAxis = 21;
+constexpr double kMaxCells = double(1 << kBitsPerAxis) - 1.0;
+// Grid sizes tried; the count usually lands in range at the second or third.
+constexpr int kMaxTries = 8;
+constexpr double kLowestFill = 0.8;
+
+struct Grid {
+  Vec3 origin;
+  double leaf;
+
+  Eigen::Array3d cell_of(const Vec3& p) const {
+    return ((p - origin) / leaf).array().floor().min(kMaxCells).max(0.0);
+  }
+  std::uint64_t key(const Vec3& p) const {
+    const Eigen::Array3d c = cell_of(p);
+    return (static_cast<std::uint64_t>(c.x()) << (2 * kBitsPerAxis)) |
+           (static_cast<std::uint64_t>(c.y()) << kBitsPerAxis) | static_cast<std::uint64_t>(c.z());
+  }
+  double squared_distance_to_centre(const Vec3& p) const {
+    const Vec3 centre = origin + leaf * (cell_of(p) + 0.5).matrix();
+    return (p - centre).squaredNorm();
+  }
+};
+
+std::size_t occupied_cells(const std::vector<Vec3>& points, const Grid& grid,
+                           std::vector<std::uint64_t>& keys) {
+  keys.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) keys[i] = grid.key(points[i]);
+  std::sort(keys.begin(), keys.end());
+  return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
+}
+
+}  // namespace
+
+Subsample subsample(const std::vector<Vec3>& points, std::size_t budget) {
+  Subsample result;
+  const std::size_t n = points.size();
+  if (budget == 0 || n <= budget) {
+    result.kept.resize(n);
+    std::iota(result.kept.begin(), result.kept.end(), 0);
+    result.representative = result.kept;
+    return result;
+  }
+  const Box box = bounding_box(points);
+  const Vec3 sizes = box.sizes();
+  // First guess: a closed surface has about half the area of its bounding box.
+  const double box_area = 2.0 * (sizes.x() * sizes.y() + sizes.y() * sizes.z() +
+                                 sizes.z() * sizes.x());
+  const double finest = sizes.maxCoeff() / kMaxCells;
+  Grid grid{box.min(), std::max(std::sqrt(0.5 * box_area / budget), finest)};
+  if (!(grid.leaf > 0.0)) grid.leaf = 1.0;  // a flat or degenerate box: any size will do
+  std::vector<std::uint64_t> keys;
+  // Cells ∝ leaf^-d: d = 2 on a surface, 1 along a line, 0 where cells are finer than the
+  // points; d is re-measured from the last two tries.
+  double exponent = 2.0, previous_leaf = 0.0;
+  std::size_t previous_count = 0;
+  for (int attempt = 0; attempt < kMaxTries; ++attempt) {
+    const std::size_t count = occupied_cells(points, grid, keys);
+    const double fill = double(count) / budget;
+    if (fill <= 1.0 && fill >= kLowestFill) break;
+    if (attempt > 0) {
+      if (count == previous_count && fill < kLowestFill) break;  // coincident points: no finer
+      exponent = count == previous_count
+                     ? 0.5  // cells finer than the points: take a big step
+                     : std::clamp(std::log(double(previous_count) / count) /
+                                      std::log(grid.leaf / previous_leaf),
+                                  0.5, 3.0);
+    }
+    previous_leaf = grid.leaf;
+    previous_count = count;
+    grid.leaf = std::max(grid.leaf * std::pow(fill / 0.9, 1.0 / exponent), finest);  // aim at 90 %
+  }
+
+  // Points by cell, the one nearest the cell's centre first.
+  keys.resize(n);
+  std::vector<double> distance(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    keys[i] = grid.key(points[i]);
+    distance[i] = grid.squared_distance_to_centre(points[i]);
+  }
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    if (keys[a] != keys[b]) return keys[a] < keys[b];
+    if (distance[a] != distance[b]) return distance[a] < distance[b];
+    return a < b;
+  });
+  std::vector<int> chosen(n);  // the cell's point, by point index
+  for (std::size_t begin = 0, end; begin < n; begin = end) {
+    end = begin;
+    while (end < n && keys[order[end]] == keys[order[begin]]) chosen[order[end++]] = order[begin];
+    result.kept.push_back(order[begin]);
+  }
+  std::sort(result.kept.begin(), result.kept.end());
+  std::vector<int> position(n, -1);
+  for (std::size_t j = 0; j < result.kept.size(); ++j) position[result.kept[j]] = static_cast<int>(j);
+  result.representative.resize(n);
+  for (std::size_t i = 0; i < n; ++i) result.representative[i] = position[chosen[i]];
+  result.leaf = grid.leaf;
+  return result;
+}
+
+}  // namespace vmas
