@@ -1,7 +1,8 @@
 // PCD reader (ascii, binary, binary_compressed), written for vmas rather than
 // pcl::PCDReader, which trusts the header: a malformed one crashes it, and a large POINTS makes it
-// allocate before it compares with the file size.
-#include <pcl/io/lzf.h>
+// allocate before it compares with the file size. LZF data is unpacked by Debian's liblzf (the
+// format PCL writes; PCL's own copy lives in libpcl_io, which drags in VTK at every start-up).
+#include <liblzf/lzf.h>
 
 #include <algorithm>
 #include <cmath>
@@ -221,8 +222,8 @@ SurfaceInput read_pcd(const std::string& path) {
                    std::to_string(uncompressed));
   if (points == 0) return surface;
   std::vector<char> unpacked(uncompressed);
-  if (pcl::lzfDecompress(cursor, static_cast<unsigned>(compressed), unpacked.data(),
-                         static_cast<unsigned>(uncompressed)) != uncompressed)
+  if (lzf_decompress(cursor, static_cast<unsigned>(compressed), unpacked.data(),
+                     static_cast<unsigned>(uncompressed)) != uncompressed)
     fail(path,
          "corrupt: compressed data does not unpack to " + std::to_string(uncompressed) + " bytes");
   std::size_t start = 0;
