@@ -36,13 +36,15 @@ void near_spheres(const std::vector<Sphere>& spheres, const Vec3& center, double
 }  // namespace
 
 void partition(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
-               std::vector<int>& labels, std::vector<double>& energies) {
+               std::vector<int>& labels, std::vector<double>& energies, bool energies_current) {
   if (spheres.empty()) throw InvalidInput("cannot partition a shape among zero spheres");
   const int n = shape.size();
   const VertexBlocks& blocks = shape.blocks;
   if (static_cast<int>(blocks.vertices.size()) != n)
     throw InvalidInput("the shape has no vertex blocks (build it with build_shape)");
   const int count = static_cast<int>(spheres.size());
+  if (labels.size() != static_cast<std::size_t>(n) || energies.size() != labels.size())
+    energies_current = false;
   labels.resize(n, 0);
   energies.resize(n);
   std::vector<int> all(count);
@@ -67,8 +69,12 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
         double& reach = reaches[b - begin];
         for (int i = blocks.offsets[b]; i < blocks.offsets[b + 1]; ++i) {
           const int v = blocks.vertices[i];
-          if (labels[v] < 0 || labels[v] >= count) labels[v] = 0;
-          energies[v] = vertex_energy(shape, v, spheres[labels[v]], lambda);
+          if (labels[v] < 0 || labels[v] >= count) {
+            labels[v] = 0;
+            energies[v] = vertex_energy(shape, v, spheres[0], lambda);
+          } else if (!energies_current) {
+            energies[v] = vertex_energy(shape, v, spheres[labels[v]], lambda);
+          }
           const double distance = std::sqrt(std::max(energies[v], 0.0) / (lambda * shape.area[v]));
           if (!(distance <= reach))
             reach = std::isnan(distance) ? std::numeric_limits<double>::infinity() : distance;

@@ -41,6 +41,8 @@ void SkeletonizerOptions::validate() const {
   if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
     throw InvalidOption("settle iterations must be in [0, max settle iterations]");
   if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
+  if (step_update_iterations < 1 || step_update_iterations > update.max_iterations)
+    throw InvalidOption("update iterations per step must be between 1 and the update's maximum");
   update.validate();
   shrinking_ball.validate();
   split.validate();
@@ -86,7 +88,8 @@ Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
 
 void Skeletonizer::repartition() {
   const auto start = Clock::now();
-  partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_);
+  partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_, energies_current_);
+  energies_current_ = true;
   members_.assign(spheres_.size(), {});
   for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
   times_.partition += seconds_since(start);
@@ -112,6 +115,7 @@ bool Skeletonizer::reseed_tiny_clusters() {
     const int worst = worst_vertex(donors[i]);
     spheres_[tiny[i]] = projector_.ball_at(worst);
   }
+  if (moved > 0) energies_current_ = false;
   return moved > 0;
 }
 
@@ -124,21 +128,28 @@ int Skeletonizer::worst_vertex(int cluster) const {
 
 void Skeletonizer::refresh_errors(bool spheres_moved) {
   const int count = static_cast<int>(spheres_.size());
+  if (spheres_moved) {
+    // By vertex, not by cluster: a cluster's members are scattered over the vertex array, and
+    // threads writing interleaved entries would keep taking each other's cache lines.
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < shape_.size(); ++v)
+      vertex_energies_[v] = vertex_energy(shape_, v, spheres_[labels_[v]], options_.lambda);
+    energies_current_ = true;
+  }
   std::vector<double> cluster_energy(count, 0.0);
   cluster_errors_.assign(count, 0.0);
   worst_errors_.assign(count, 0.0);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < count; ++c) {
-    double area = 0.0;
+    double energy = 0.0, area = 0.0, worst = 0.0;
     for (int v : members_[c]) {
-      if (spheres_moved)
-        vertex_energies_[v] = vertex_energy(shape_, v, spheres_[c], options_.lambda);
-      cluster_energy[c] += vertex_energies_[v];
+      energy += vertex_energies_[v];
       area += shape_.area[v];
-      if (shape_.area[v] > 0.0)
-        worst_errors_[c] = std::max(worst_errors_[c], vertex_energies_[v] / shape_.area[v]);
+      if (shape_.area[v] > 0.0) worst = std::max(worst, vertex_energies_[v] / shape_.area[v]);
     }
-    cluster_errors_[c] = area > 0.0 ? cluster_energy[c] / area : 0.0;
+    cluster_energy[c] = energy;
+    cluster_errors_[c] = area > 0.0 ? energy / area : 0.0;
+    worst_errors_[c] = worst;
   }
   total_error_ = 0.0;
   for (double energy : cluster_energy) total_error_ += energy;
@@ -150,19 +161,20 @@ double Skeletonizer::step() {
   // A cluster that shrank to a handful of vertices carries no shape information: its sphere is
   // better spent where the error is largest (this keeps the sphere count exact).
   if (reseed_tiny_clusters()) repartition();
-  fit_and_project(options_.lambda);
+  fit_and_project(options_.lambda, options_.step_update_iterations);
   refresh_errors(true);
   return total_error_;
 }
 
-void Skeletonizer::fit_and_project(double lambda) {
+void Skeletonizer::fit_and_project(double lambda, int iterations) {
   const int count = static_cast<int>(spheres_.size());
   auto start = Clock::now();
   std::vector<Sphere> fitted = spheres_;
+  UpdateOptions update = options_.update;
+  update.max_iterations = iterations;
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < count; ++c)
-    if (!frozen_[c])
-      fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
+    if (!frozen_[c]) fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, update);
   times_.update += seconds_since(start);
   if (options_.project) {
     start = Clock::now();
@@ -172,6 +184,7 @@ void Skeletonizer::fit_and_project(double lambda) {
     times_.projection += seconds_since(start);
   }
   spheres_ = std::move(fitted);
+  energies_current_ = false;
 }
 
 bool Skeletonizer::wants_more_spheres() const {
@@ -276,7 +289,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
       for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
         repartition();
     }
-    fit_and_project(options_.final_lambda);
+    fit_and_project(options_.final_lambda, options_.update.max_iterations);
     refresh_errors(true);
     if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
   }
@@ -304,6 +317,7 @@ void Skeletonizer::remove_sphere(int id) {
   spheres_.erase(spheres_.begin() + id);
   frozen_.erase(frozen_.begin() + id);
   for (int& label : labels_) label = label == id ? -1 : (label > id ? label - 1 : label);
+  energies_current_ = false;
   repartition();
 }
 

@@ -22,7 +22,10 @@ inline double vertex_energy(const Shape& shape, int v, const Sphere& m, double l
 // Exact: spheres are skipped only when the Euclidean lower bound alone already exceeds the best
 // energy found: for groups of blocks of nearby vertices (shape.blocks) at once, then per block,
 // then per vertex. Parallel over groups; the result does not depend on the thread count.
+// `energies_current`: `energies` already hold E_v of each vertex's labelled sphere (they are not
+// recomputed then).
 void partition(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
-               std::vector<int>& labels, std::vector<double>& energies);
+               std::vector<int>& labels, std::vector<double>& energies,
+               bool energies_current = false);
 
 }  // namespace vmas

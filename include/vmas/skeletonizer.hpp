@@ -31,6 +31,9 @@ struct SkeletonizerOptions {
   int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
                                    // of the worst cluster after a partition
   bool project = true;             // shrinking-ball correction after every update (§3.3)
+  // Gauss–Newton steps per sphere in each optimisation step: the projection moves the sphere
+  // anyway and the next step goes on from there; the final refits take update.max_iterations.
+  int step_update_iterations = 10;
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
@@ -103,7 +106,8 @@ class Skeletonizer {
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
-  void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
+  // Update (+ projection) of every unfrozen sphere, with at most `iterations` Gauss–Newton steps.
+  void fit_and_project(double lambda, int iterations);
   bool wants_more_spheres() const;
   void check_id(int id) const;
 
@@ -114,6 +118,7 @@ class Skeletonizer {
   std::vector<bool> frozen_;
   std::vector<int> labels_;
   std::vector<double> vertex_energies_;
+  bool energies_current_ = false;  // vertex_energies_ hold E_v of every vertex's sphere as it is
   std::vector<std::vector<int>> members_;
   std::vector<double> cluster_errors_;
   std::vector<double> worst_errors_;  // max E_v / A(v) per cluster (split ranking)
