@@ -13,7 +13,7 @@
 namespace vmas {
 
 // Clouds with more points are thinned to about this many (coarse-to-fine, see subsample.hpp).
-constexpr int kDefaultMaxPoints = 200000;
+constexpr int kDefaultMaxPoints = 100000;
 
 struct PrepareOptions {
   enum class Denoise { Auto, Off, Fixed };
