@@ -389,8 +389,8 @@ int skeletonize_command(int argc, const char* const* argv) {
        "split at least every this many steps while spheres are missing")
       ("splits-per-round", po::value(&options.run.split.max_per_round)
            ->default_value(defaults.run.split.max_per_round),
-       "with --spheres: at most this many spheres are added per split round (and at most 20 % of "
-       "the count; --error grows by the 20 % alone)")
+       "with --spheres: at most this many spheres are added per split round, or 5 % of the count "
+       "when that is more (and at most 20 % of the count; --error grows by the 20 % alone)")
       ("denoise-angle", po::value(&options.run.shrinking_ball.denoise_angle_deg)
            ->default_value(defaults.run.shrinking_ball.denoise_angle_deg),
        "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "

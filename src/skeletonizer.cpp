@@ -213,8 +213,12 @@ int Skeletonizer::split() {
   const int cap = options_.target_spheres > 0 ? options_.target_spheres : options_.max_spheres;
   // An error target may need thousands of spheres: it grows by the fraction alone, or a fine
   // threshold would take hundreds of rounds.
+  // A large count target grows by a share of the count too, or 1000 spheres took a hundred
+  // rounds (1 060 steps on a 1M-point scan); below 200 spheres the share is under the cap.
   const int per_round =
-      options_.target_spheres > 0 ? options_.split.max_per_round : std::numeric_limits<int>::max();
+      options_.target_spheres > 0
+          ? std::max(options_.split.max_per_round, count / options_.split.large_count_share)
+          : std::numeric_limits<int>::max();
   const int max_count = std::min(
       {static_cast<int>(std::ceil(options_.split.max_fraction * count)), per_round, cap - count});
   if (max_count <= 0) return 0;

@@ -6,7 +6,8 @@ namespace vmas {
 
 struct SplitOptions {
   double max_fraction = 0.2;  // at most this fraction of the current sphere count per round
-  int max_per_round = 10;     // and at most this many (sphere-count targets only)
+  int max_per_round = 10;     // and at most this many (sphere-count targets only) ...
+  int large_count_share = 20;  // ... or 1/this of the current count when that is more
   void validate() const;      // throws InvalidOption
 };
 
