@@ -2,12 +2,16 @@
 // Subcommands of the `vmas` tool. Each parses its own options and returns the exit code:
 // 0 success, 1 run error, 2 usage error. Errors escape as exceptions and main() prints them.
 #include <boost/program_options.hpp>
+#include <string>
+
+#include "vmas/vmas.hpp"
 
 namespace vmas::cli {
 
 int skeletonize_command(int argc, const char* const* argv);
 int eval_command(int argc, const char* const* argv);
 int convert_command(int argc, const char* const* argv);
+int edit_command(int argc, const char* const* argv);
 
 // Parses a subcommand's arguments: the options it shows in --help (`visible`), and the
 // positional ones (`positional`, declared in `hidden` so that --help leaves them out). Does not
@@ -19,5 +23,20 @@ boost::program_options::variables_map parse_arguments(
 
 // The --threads option of every subcommand: 0 keeps OpenMP's default (all cores).
 void set_threads(int threads);
+
+// The run's options (spheres, λ, denoising, normals, ...), shared by skeletonize and edit.
+struct RunOptionValues {
+  Options options;
+  std::string denoise = "auto";  // --denoise as typed
+};
+void add_run_options(boost::program_options::options_description& visible,
+                     RunOptionValues& values);
+// After notify(): the flags and --denoise into `options`, then options.validate().
+void finish_run_options(const boost::program_options::variables_map& vm,
+                        RunOptionValues& values);
+
+// Fails before any work is done when an output cannot possibly be written (a usage error):
+// `check` is vmas::check_output or vmas::check_medial_mesh_output.
+void check_output_option(const std::string& path, void (*check)(const std::string&));
 
 }  // namespace vmas::cli

@@ -47,6 +47,7 @@ constexpr const char* kUsage =
     "       vmas skeletonize INPUT... --output-dir DIR [options]\n"
     "       vmas eval SHAPE MEDIAL [--json] [--errors FILE] [--medial-errors FILE]\n"
     "       vmas convert INPUT OUTPUT [--medial]\n"
+    "       vmas edit INPUT [-o OUTPUT] [--spheres N] [--port P]   (live editor in the browser)\n"
     "       vmas COMMAND --help\n"
     "       vmas --version\n";
 
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     if (command == "skeletonize") return vmas::cli::skeletonize_command(argc - 1, argv + 1);
     if (command == "eval") return vmas::cli::eval_command(argc - 1, argv + 1);
     if (command == "convert") return vmas::cli::convert_command(argc - 1, argv + 1);
+    if (command == "edit") return vmas::cli::edit_command(argc - 1, argv + 1);
     std::cerr << "vmas: unknown command '" << command << "' (try: vmas --help)\n";
     return 2;
   } catch (const boost::program_options::error& e) {

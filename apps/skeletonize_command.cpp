@@ -46,27 +46,6 @@ const char* kDescription =
     "\n"
     "options";
 
-// "auto", "off", or a deviation as a fraction of the diagonal ("0.005") or in percent ("0.5%").
-PrepareOptions::Denoise parse_denoise(const std::string& text, double& sigma) {
-  if (text == "auto") return PrepareOptions::Denoise::Auto;
-  if (text == "off") return PrepareOptions::Denoise::Off;
-  const bool percent = !text.empty() && text.back() == '%';
-  const std::string number = percent ? text.substr(0, text.size() - 1) : text;
-  std::size_t used = 0;
-  try {
-    sigma = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != number.size())
-    throw InvalidOption("denoise",
-                        "must be auto, off or a noise deviation such as 0.005 or 0.5% "
-                        "(got '" +
-                            text + "')");
-  if (percent) sigma /= 100.0;
-  return PrepareOptions::Denoise::Fixed;
-}
-
 // Lengths in % of the diagonal, two significant digits; seconds to the millisecond.
 double percent_of(double length, double diagonal) {
   return diagonal > 0.0 ? std::round(1e4 * length / diagonal) / 1e2 : 0.0;
@@ -283,15 +262,6 @@ json run_one(const Job& job, const Settings& settings, bool show_progress) {
   return summarize(job, size, result, read_seconds, write_seconds, &eval);
 }
 
-// Fails before any work is done when an output cannot possibly be written (a usage error).
-void check_output_option(const std::string& path, void (*check)(const std::string&)) {
-  try {
-    check(path);
-  } catch (const IoError& e) {
-    throw InvalidOption(e.what());
-  }
-}
-
 std::vector<std::string> read_input_list(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InvalidOption("--inputs: cannot read " + path);
@@ -329,11 +299,10 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
 }  // namespace
 
 int skeletonize_command(int argc, const char* const* argv) {
-  const Options defaults;
   Settings settings;
-  Options& options = settings.options;
+  RunOptionValues run_values;
   std::vector<std::string> inputs;
-  std::string output, output_dir, inputs_list, labels_path, format = "ply", denoise = "auto";
+  std::string output, output_dir, inputs_list, labels_path, format = "ply";
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
@@ -342,68 +311,14 @@ int skeletonize_command(int argc, const char* const* argv) {
       ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (must exist)")
       ("format", po::value(&format)->default_value("ply"), "with --output-dir: ply or ma")
       ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
-      ("spheres,n", po::value(&options.spheres),
-       "number of medial spheres to produce (met exactly, at most the number of usable points; "
-       "default 100 when --error is absent)")
-      ("error,e", po::value(&options.error),
-       "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
-       "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
-      ("max-spheres", po::value(&options.run.max_spheres)->default_value(defaults.run.max_spheres),
-       "with --error: never more spheres than this (also the largest --spheres)")
-      ("lambda,l", po::value(&options.run.lambda)->default_value(defaults.run.lambda, "0.2"),
-       "weight of the point-sphere term against the plane-sphere (SQEM) term")
-      ("final-lambda", po::value(&options.run.final_lambda)
-           ->default_value(defaults.run.final_lambda, "0.01"),
-       "lambda of the refits that end the run (spheres reach the shape's extremities)")
-      ("final-rounds", po::value(&options.run.final_rounds)
-           ->default_value(defaults.run.final_rounds),
-       "refits with --final-lambda after the optimisation (0: none)")
-      ("k", po::value(&options.shape.k)->default_value(defaults.shape.k),
-       "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
-      ("normal-k", po::value(&options.prepare.normals.k)
-           ->default_value(defaults.prepare.normals.k),
-       "neighbours used to estimate and orient normals of clouds that have none")
-      ("max-points", po::value(&options.prepare.max_points)
-           ->default_value(defaults.prepare.max_points),
-       "a cloud with more points is thinned to about this many, one per voxel, for the run; "
-       "every point still gets a label (0: every point takes part)")
-      ("estimate-normals", "estimate normals even if the file has them")
-      ("denoise", po::value(&denoise)->default_value("auto"),
-       "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
-       "points (moving least squares) before the run; off: take the points as they are; or the "
-       "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
-      ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
-       "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("labels", po::value(&labels_path),
        "also write the sphere of every point of the file, one per line (-1: point dropped as "
        "NaN, duplicate or outlier); one INPUT only")
-      ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
-      ("max-iterations", po::value(&options.run.max_iterations)
-           ->default_value(defaults.run.max_iterations),
-       "stop after this many partition/update steps")
-      ("convergence", po::value(&options.run.convergence)
-           ->default_value(defaults.run.convergence, "0.0002"),
-       "split (or stop) once the total error changes by less than this fraction per step")
-      ("split-interval", po::value(&options.run.split_interval)
-           ->default_value(defaults.run.split_interval),
-       "split at least every this many steps while spheres are missing")
-      ("splits-per-round", po::value(&options.run.split.max_per_round)
-           ->default_value(defaults.run.split.max_per_round),
-       "with --spheres: at most this many spheres are added per split round, or 5 % of the count "
-       "when that is more (and at most 20 % of the count; --error grows by the 20 % alone)")
-      ("denoise-angle", po::value(&options.run.shrinking_ball.denoise_angle_deg)
-           ->default_value(defaults.run.shrinking_ball.denoise_angle_deg),
-       "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
-       "disables it")
-      ("ball-tolerance", po::value(&options.run.shrinking_ball.tolerance)
-           ->default_value(defaults.run.shrinking_ball.tolerance, "1e-05"),
-       "shrinking ball: samples this close inside the ball do not shrink it (fraction of the "
-       "diagonal); raised automatically for smoothed scans")
-      ("threads", po::value(&options.threads)->default_value(0), "OpenMP threads (0: all cores)")
       ("json", "print the summary as one JSON object (one line per INPUT with several)")
       ("eval", "also measure the result's reconstruction error against INPUT (as vmas eval)")
       ("quiet,q", "print nothing but errors and warnings");
   // clang-format on
+  add_run_options(visible, run_values);
   po::options_description hidden;
   hidden.add_options()("input", po::value(&inputs));
   po::positional_options_description positional;
@@ -427,17 +342,8 @@ int skeletonize_command(int argc, const char* const* argv) {
     throw po::error("give --output-dir for several inputs (--output names one file)");
   if (!batch && output.empty()) throw po::error("missing --output");
   if (batch && !labels_path.empty()) throw po::error("--labels takes one INPUT");
-  if (vm.count("spheres") && vm.count("error"))
-    throw po::error("give either --spheres or --error, not both");
-  if (vm.count("spheres") && options.spheres < 1)
-    throw InvalidOption("spheres",
-                        "must be at least 1 (got " + std::to_string(options.spheres) + ")");
-  if (vm.count("error") && !(options.error > 0.0)) throw InvalidOption("error", "must be positive");
-  options.run.project = !vm.count("no-projection");
-  options.prepare.denoise = parse_denoise(denoise, options.prepare.noise_sigma);
-  options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
-  options.prepare.orient_normals = vm.count("orient-normals") > 0;
-  options.validate();
+  finish_run_options(vm, run_values);
+  settings.options = run_values.options;
   settings.json = vm.count("json") > 0;
   settings.eval = vm.count("eval") > 0;
   settings.quiet = vm.count("quiet") > 0;

@@ -340,6 +340,27 @@ void Skeletonizer::freeze(int id, bool frozen) {
   frozen_[id] = frozen;
 }
 
+void Skeletonizer::set_target_spheres(int count) {
+  SkeletonizerOptions changed = options_;
+  changed.target_spheres = count;
+  changed.error_threshold = 0.0;
+  if (count < 1) throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(count) + ")");
+  changed.validate();
+  if (count > shape_.size())
+    throw InvalidOption("spheres", "must be at most the number of points (" +
+                                       std::to_string(shape_.size()) + ", got " +
+                                       std::to_string(count) + ")");
+  options_ = changed;
+}
+
+void Skeletonizer::set_lambda(double lambda) {
+  SkeletonizerOptions changed = options_;
+  changed.lambda = lambda;
+  changed.validate();
+  options_ = changed;
+  energies_current_ = false;  // E_v depends on λ
+}
+
 MedialMesh Skeletonizer::medial_mesh() const {
   const int count = static_cast<int>(spheres_.size());
   return build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));

@@ -61,9 +61,9 @@ SkeletonizerOptions run_options(const Options& options) {
 // outward_flux below this: most normals point inward (0 for flat data or random signs).
 constexpr double kClearlyInward = -0.1;
 
-// The checks whose failure leaves a usable but doubtful skeleton.
-std::vector<Warning> warnings_about(const Result& result, const SurfaceInput& prepared,
-                                    bool normals_given) {
+// The checks whose failure leaves a usable but doubtful skeleton, after those that preparation
+// already made (result.warnings).
+std::vector<Warning> warnings_about(const Result& result) {
   std::vector<Warning> warnings;
   const MeshDefects& mesh = result.mesh_defects;
   if (mesh.boundary_edges > 0)
@@ -75,10 +75,7 @@ std::vector<Warning> warnings_about(const Result& result, const SurfaceInput& pr
         {"misoriented-faces", "neighbouring faces disagree on which side is outside (" +
                                   std::to_string(mesh.misoriented_edges) +
                                   " edges): re-orient the mesh consistently"});
-  if (normals_given && outward_flux(prepared.points, prepared.normals) < kClearlyInward)
-    warnings.push_back({"inward-normals",
-                        "the file's normals point inward on the whole; --orient-normals "
-                        "(options.prepare.orient_normals) re-orients them"});
+  warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
   // A mesh warning above already says why it encloses nothing.
   if (result.enclosure < MedialProjector::kEnclosed && warnings.empty()) {
     char figure[32];
@@ -113,21 +110,23 @@ void Options::validate() const {
   prepare.validate();
 }
 
-Result skeletonize(SurfaceInput input, const Options& options, const ProgressCallback& progress) {
-  options.validate();
-  const ThreadCount threads(options.threads);
+namespace {
+
+// prepare_shape(), with the progress callback that skeletonize() honours while preparing.
+PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
+                                    const ProgressCallback& progress) {
   const auto start = Clock::now();
-  const SkeletonizerOptions run = run_options(options);
+  PreparedShape prepared;
+  prepared.run = run_options(options);
   const auto check_cancel = [&] {
     Progress preparing;
     preparing.phase = Progress::Phase::Preparing;
-    preparing.target_spheres = run.target_spheres;
+    preparing.target_spheres = prepared.run.target_spheres;
     if (progress && !progress(preparing)) throw Cancelled();
   };
   check_cancel();
 
-  Result result;
-  const std::size_t input_points = input.points.size();
+  Result& result = prepared.result;
   SurfaceInput surface = std::move(input);
   result.clean = clean_surface(surface);
   if (surface.points.empty()) throw InvalidInput("no usable points");
@@ -137,15 +136,37 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
                              !options.prepare.estimate_normals && !options.prepare.orient_normals;
   result.prepare = prepare_surface(surface, options.prepare);
   result.seconds.prepare = result.prepare.seconds;
+  if (normals_given && outward_flux(surface.points, surface.normals) < kClearlyInward)
+    result.warnings.push_back({"inward-normals",
+                               "the file's normals point inward on the whole; --orient-normals "
+                               "(options.prepare.orient_normals) re-orients them"});
   check_cancel();
 
-  SkeletonizerOptions adapted = run;
-  adapt_shrinking_ball(result.prepare, adapted.shrinking_ball);
+  adapt_shrinking_ball(result.prepare, prepared.run.shrinking_ball);
   const auto shape_start = Clock::now();
-  Shape shape = build_shape(surface, options.shape);
-  result.input_components = component_count(shape);
+  prepared.shape = build_shape(surface, options.shape);
+  result.input_components = component_count(prepared.shape);
   result.seconds.shape = seconds_since(shape_start);
-  Skeletonizer skeletonizer(std::move(shape), adapted);
+  return prepared;
+}
+
+}  // namespace
+
+PreparedShape prepare_shape(SurfaceInput input, const Options& options) {
+  options.validate();
+  const ThreadCount threads(options.threads);
+  return prepare_with_progress(std::move(input), options, {});
+}
+
+Result skeletonize(SurfaceInput input, const Options& options, const ProgressCallback& progress) {
+  options.validate();
+  const ThreadCount threads(options.threads);
+  const auto start = Clock::now();
+  const std::size_t input_points = input.points.size();
+  PreparedShape prepared = prepare_with_progress(std::move(input), options, progress);
+  Result result = std::move(prepared.result);
+  const SkeletonizerOptions run = prepared.run;
+  Skeletonizer skeletonizer(std::move(prepared.shape), run);
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
@@ -167,7 +188,7 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   for (std::size_t i = 0; i < stand_in.size(); ++i)
     if (stand_in[i] >= 0) result.labels[result.clean.kept[i]] = labels[stand_in[i]];
 
-  result.warnings = warnings_about(result, surface, normals_given);
+  result.warnings = warnings_about(result);
   const StageTimes& times = skeletonizer.times();
   result.seconds.partition = times.partition;
   result.seconds.update = times.update;

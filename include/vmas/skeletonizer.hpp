@@ -89,6 +89,11 @@ class Skeletonizer {
   int add_sphere_at(int vertex);  // the shrinking ball at `vertex`; returns its id
   void remove_sphere(int id);
   void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
+  // A new count target (replaces an error threshold) or λ for the steps to come; InvalidOption
+  // when out of range.
+  void set_target_spheres(int count);
+  void set_lambda(double lambda);
+  bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
   MedialMesh medial_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }
@@ -108,7 +113,6 @@ class Skeletonizer {
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   // Update (+ projection) of every unfrozen sphere, with at most `iterations` Gauss–Newton steps.
   void fit_and_project(double lambda, int iterations);
-  bool wants_more_spheres() const;
   void check_id(int id) const;
 
   Shape shape_;

@@ -76,6 +76,18 @@ struct Cancelled : Error {
   Cancelled() : Error("cancelled") {}
 };
 
+// The first half of skeletonize(): the shape the optimisation runs on (cleaned, thinned,
+// denoised, with normals, in the working frame result.prepare.frame) and the run's options
+// adapted to what preparation found. For front ends that drive a Skeletonizer or an
+// EditSession themselves. `result` holds clean, prepare, mesh_defects, input_components and
+// the seconds of those stages. Throws as skeletonize() does.
+struct PreparedShape {
+  Shape shape;
+  SkeletonizerOptions run;
+  Result result;
+};
+PreparedShape prepare_shape(SurfaceInput input, const Options& options = {});
+
 // Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed), taken
 // by value: std::move a surface you no longer need to spare a copy of a big scan.
 // `progress` is called once while preparing and after every step and final refit, from the

@@ -1,0 +1,334 @@
+// `vmas edit`: the live skeleton editor. One EditSession optimises in a worker thread; a local
+// HTTP server (Debian's cpp-httplib) serves the page (three.js from Debian's libjs-three), the
+// shape once, the state as server-sent events, and takes edits as POSTed JSON. The protocol is
+// documented in the README ("Editing a skeleton").
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <thread>
+
+#include "commands.hpp"
+#include "vmas/edit_session.hpp"
+#include "vmas/error.hpp"
+#include "vmas/io.hpp"
+#include "vmas/vmas.hpp"
+// After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
+#include <httplib.h>
+
+namespace po = boost::program_options;
+using json = nlohmann::json;
+
+namespace vmas::cli {
+
+extern const char* const kEditPage;  // apps/edit_page.html, embedded by CMake
+
+namespace {
+
+const char* kDescription =
+    "usage: vmas edit INPUT [-o OUTPUT] [--spheres N] [--port P] [--host H] [options]\n"
+    "\n"
+    "Skeletonizes INPUT live and serves an editor page: the optimisation keeps running while\n"
+    "you remove, split and freeze spheres in the browser. Prints the page's URL as the first\n"
+    "line on stdout (it holds a random token that every request needs). Saving writes OUTPUT\n"
+    "(.ply or .ma). Ctrl-C stops. Exit codes: 0 stopped, 1 run error, 2 usage error.\n"
+    "\n"
+    "options";
+
+constexpr const char* kThreeDirectory = "/usr/share/javascript/three";  // Debian's libjs-three
+constexpr auto kUpdateInterval = std::chrono::milliseconds(1000 / 30);  // at most 30 updates/s
+constexpr auto kKeepAlive = std::chrono::milliseconds(1000);
+constexpr std::size_t kMaxRequestBytes = 64 * 1024;
+// Label changes sent as a list below this many; above, the page fetches them all (binary).
+constexpr std::size_t kMaxListedLabels = 4096;
+// With --exit-on-close: a reload (the page gone for a moment) must not stop the editor.
+constexpr auto kCloseGrace = std::chrono::seconds(3);
+
+std::string random_token() {
+  std::random_device random;
+  std::string token;
+  const char* hex = "0123456789abcdef";
+  for (int i = 0; i < 32; ++i) token += hex[random() % 16];
+  return token;
+}
+
+// What one page has been sent so far: the next update carries only what changed.
+struct Sent {
+  std::uint64_t version = 0;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> faces;
+  std::vector<int> labels;
+};
+
+json state_message(const EditSnapshot& s, Sent& sent, const std::vector<Warning>& warnings) {
+  json spheres = json::array();
+  for (const Sphere& sphere : s.spheres)
+    spheres.push_back({sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
+  json message = {{"version", s.version},
+                  {"iteration", s.iteration},
+                  {"steps_per_second", std::round(s.steps_per_second * 10.0) / 10.0},
+                  {"error", s.error},
+                  {"paused", s.paused},
+                  {"target_spheres", s.target_spheres},
+                  {"lambda", s.lambda},
+                  {"dropped_edits", s.dropped_edits},
+                  {"keys", s.keys},
+                  {"frozen", s.frozen},
+                  {"spheres", spheres}};
+  if (sent.version == 0 || s.mesh.edges != sent.edges) message["edges"] = sent.edges = s.mesh.edges;
+  if (sent.version == 0 || s.mesh.faces != sent.faces) message["faces"] = sent.faces = s.mesh.faces;
+  if (sent.labels.size() != s.labels.size()) {
+    message["labels_changed"] = "all";
+    sent.labels = s.labels;
+  } else {
+    json changes = json::array();
+    for (std::size_t v = 0; v < s.labels.size() && changes.size() <= kMaxListedLabels; ++v)
+      if (s.labels[v] != sent.labels[v]) changes.push_back({v, s.labels[v]});
+    if (changes.size() > kMaxListedLabels) {
+      message["labels_changed"] = "all";
+      sent.labels = s.labels;
+    } else if (!changes.empty()) {
+      message["label_changes"] = changes;
+      for (const auto& change : changes) sent.labels[change[0].get<std::size_t>()] = change[1];
+    }
+  }
+  if (sent.version == 0) {
+    json listed = json::array();
+    for (const Warning& w : warnings) listed.push_back({{"code", w.code}, {"message", w.message}});
+    message["warnings"] = listed;
+  }
+  sent.version = s.version;
+  return message;
+}
+
+// The shape, once: little-endian uint32 vertex count, uint32 face count, float32 positions,
+// float32 normals, uint32 face indices.
+std::string shape_bytes(const Shape& shape, const std::vector<std::array<int, 3>>& faces) {
+  std::string bytes;
+  const auto put = [&](const void* data, std::size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
+  const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()),
+                                   static_cast<std::uint32_t>(faces.size())};
+  put(counts, sizeof counts);
+  for (const auto* field : {&shape.points, &shape.normals})
+    for (const Vec3& p : *field) {
+      const float xyz[3] = {float(p.x()), float(p.y()), float(p.z())};
+      put(xyz, sizeof xyz);
+    }
+  for (const auto& face : faces) {
+    const std::uint32_t f[3] = {std::uint32_t(face[0]), std::uint32_t(face[1]),
+                                std::uint32_t(face[2])};
+    put(f, sizeof f);
+  }
+  return bytes;
+}
+
+void reply_error(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(json{{"error", message}}.dump(), "application/json");
+}
+
+// One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
+json apply_edit(EditSession& session, const json& edit, const std::string& output,
+                const Frame& frame) {
+  if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
+    throw InvalidOption("an edit is a JSON object with an \"op\"");
+  const std::string op = edit["op"];
+  if (op == "remove") {
+    session.remove(edit.at("key").get<std::uint64_t>());
+  } else if (op == "split") {
+    session.split_at(edit.at("vertex").get<int>());
+  } else if (op == "freeze") {
+    session.freeze(edit.at("key").get<std::uint64_t>(), edit.value("frozen", true));
+  } else if (op == "pause") {
+    session.pause(edit.value("paused", true));
+  } else if (op == "target") {
+    session.set_target_spheres(edit.at("spheres").get<int>());
+  } else if (op == "lambda") {
+    session.set_lambda(edit.at("value").get<double>());
+  } else if (op == "save") {
+    if (output.empty()) throw InvalidOption("no output file: start vmas edit with -o OUTPUT");
+    const EditSnapshot s = session.snapshot();
+    write_medial_mesh(output, frame.to_input(s.mesh));
+    return {{"ok", true}, {"path", output}, {"spheres", s.spheres.size()}};
+  } else {
+    throw InvalidOption("unknown op '" + op + "'");
+  }
+  return {{"ok", true}};
+}
+
+}  // namespace
+
+int edit_command(int argc, const char* const* argv) {
+  RunOptionValues run_values;
+  std::string input, output, host = "127.0.0.1";
+  int port = 0;
+  po::options_description visible(kDescription);
+  // clang-format off
+  visible.add_options()
+      ("help,h", "print this help")
+      ("output,o", po::value(&output), "medial mesh that saving writes (.ply or .ma)")
+      ("host", po::value(&host)->default_value(host),
+       "address to listen on (the default, loopback, lets no other machine in)")
+      ("port", po::value(&port)->default_value(0), "port to listen on (0: any free one)")
+      ("exit-on-close", "stop when the last page has been closed for 3 s");
+  // clang-format on
+  add_run_options(visible, run_values);
+  po::options_description hidden;
+  hidden.add_options()("input", po::value(&input));
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
+  if (vm.count("help")) {
+    std::cout << visible << "\nexample:\n  vmas edit armadillo.off --spheres 40 -o armadillo.ply\n";
+    return 0;
+  }
+  po::notify(vm);
+  if (input.empty()) throw po::error("missing INPUT");
+  if (port < 0 || port > 65535) throw InvalidOption("port", "must be between 0 and 65535");
+  finish_run_options(vm, run_values);
+  if (!output.empty()) check_output_option(output, check_medial_mesh_output);
+  const bool exit_on_close = vm.count("exit-on-close") > 0;
+
+  // Ctrl-C and TERM are taken by a thread of their own (blocked here, before any thread starts).
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGUSR1);  // sent by this program to end the watcher
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
+  const Frame frame = prepared.result.prepare.frame;
+  const std::vector<Warning> warnings = prepared.result.warnings;
+  EditSession session(std::move(prepared.shape), prepared.run);
+  // The page draws the vertices the optimisation sees (faces: a later version).
+  const std::string shape = shape_bytes(session.shape(), {});
+
+  httplib::Server server;
+  server.set_payload_max_length(kMaxRequestBytes);
+  const std::string token = random_token();
+  std::atomic<int> pages{0};
+  std::atomic<bool> stopping{false};
+  int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
+  if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
+  const std::string origin = "http://" + host + ":" + std::to_string(bound);
+
+  // Every request needs the token (query or X-Vmas-Token header); a request from another site's
+  // page (its Origin) is refused even with it.
+  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+    const std::string given =
+        req.has_param("token") ? req.get_param_value("token") : req.get_header_value("X-Vmas-Token");
+    if (given != token) {
+      reply_error(res, 403, "missing or wrong token: open the URL that vmas edit printed");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.has_header("Origin") && req.get_header_value("Origin") != origin) {
+      reply_error(res, 403, "requests from " + req.get_header_value("Origin") + " are refused");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  std::string page = kEditPage;  // its script tags carry the token too
+  for (std::size_t at; (at = page.find("TOKEN_PLACEHOLDER")) != std::string::npos;)
+    page.replace(at, std::strlen("TOKEN_PLACEHOLDER"), token);
+  server.Get("/", [&](const httplib::Request&, httplib::Response& res) {
+    res.set_content(page, "text/html; charset=utf-8");
+  });
+  server.set_mount_point("/three", kThreeDirectory);
+  server.Get("/api/shape", [&](const httplib::Request&, httplib::Response& res) {
+    res.set_content(shape, "application/octet-stream");
+  });
+  server.Get("/api/labels", [&](const httplib::Request&, httplib::Response& res) {
+    const EditSnapshot s = session.snapshot();
+    std::string bytes(reinterpret_cast<const char*>(s.labels.data()), s.labels.size() * sizeof(int));
+    res.set_header("X-Vmas-Version", std::to_string(s.version));
+    res.set_content(std::move(bytes), "application/octet-stream");
+  });
+  server.Get("/api/events", [&](const httplib::Request&, httplib::Response& res) {
+    ++pages;
+    auto sent = std::make_shared<Sent>();
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
+    res.set_header("Cache-Control", "no-store");
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [&, sent, last](std::size_t, httplib::DataSink& sink) {
+          if (stopping || !sink.is_writable()) return false;
+          std::this_thread::sleep_until(*last + kUpdateInterval);
+          const std::uint64_t version = session.wait_for_version(
+              sent->version, static_cast<int>(kKeepAlive.count()));
+          *last = std::chrono::steady_clock::now();
+          std::string event = ": keep-alive\n\n";
+          if (version > sent->version)
+            event = "data: " + state_message(session.snapshot(), *sent, warnings).dump() + "\n\n";
+          return sink.write(event.data(), event.size());
+        },
+        [&](bool) { --pages; });
+  });
+  server.Post("/api/edit", [&](const httplib::Request& req, httplib::Response& res) {
+    try {
+      res.set_content(apply_edit(session, json::parse(req.body), output, frame).dump(),
+                      "application/json");
+    } catch (const json::exception& e) {
+      reply_error(res, 400, std::string("bad edit: ") + e.what());
+    } catch (const Error& e) {
+      reply_error(res, 400, e.what());
+    } catch (const std::exception& e) {
+      reply_error(res, 500, e.what());
+    }
+  });
+  server.Get("/api/download", [&](const httplib::Request&, httplib::Response& res) {
+    if (output.empty() || !std::filesystem::exists(output))
+      return reply_error(res, 404, "nothing saved yet");
+    res.set_header("Content-Disposition",
+                   "attachment; filename=\"" + std::filesystem::path(output).filename().string() + "\"");
+    std::ifstream file(output, std::ios::binary);
+    res.set_content(std::string(std::istreambuf_iterator<char>(file), {}),
+                    "application/octet-stream");
+  });
+
+  const auto stop = [&] {
+    stopping = true;
+    server.stop();
+  };
+  std::thread signal_watcher([&] {
+    int signal = 0;
+    sigwait(&stop_signals, &signal);
+    if (signal != SIGUSR1) stop();
+  });
+  std::thread close_watcher([&] {
+    bool seen_page = false;
+    auto empty_since = std::chrono::steady_clock::now();
+    while (!stopping) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      if (pages > 0) {
+        seen_page = true;
+        empty_since = std::chrono::steady_clock::now();
+      } else if (exit_on_close && seen_page &&
+                 std::chrono::steady_clock::now() - empty_since > kCloseGrace) {
+        stop();
+      }
+    }
+  });
+
+  std::cout << origin << "/?token=" << token << std::endl;
+  std::cerr << "vmas edit: " << input << ", " << session.shape().size()
+            << " points; open the URL above; Ctrl-C stops\n";
+  server.listen_after_bind();
+  stopping = true;
+  pthread_kill(signal_watcher.native_handle(), SIGUSR1);
+  signal_watcher.join();
+  close_watcher.join();
+  return 0;
+}
+
+}  // namespace vmas::cli

@@ -1,0 +1,95 @@
+#pragma once
+// Dynamic skeletonization (paper §4, "Interactive modification"): a Skeletonizer optimised
+// without pause in a worker thread while other threads edit it. Edits are queued and applied
+// between steps; after every step the state is published as a snapshot that any thread may
+// read. The engine of `vmas edit`; usable by any front end.
+//
+// Spheres are named by keys that stay with a sphere for its life (a Skeletonizer's sphere ids
+// shift when one is removed), so that an edit made against an older snapshot still means the
+// sphere the user pointed at, or nothing.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "vmas/skeletonizer.hpp"
+
+namespace vmas {
+
+struct EditSnapshot {
+  std::uint64_t version = 0;  // grows with every published state
+  int iteration = 0;          // steps so far
+  double steps_per_second = 0.0;
+  double error = 0.0;  // total error Σ E_v / A(shape)
+  bool paused = false;
+  int target_spheres = 0;
+  double lambda = 0.0;
+  std::vector<std::uint64_t> keys;  // of every sphere, in the order of `spheres`
+  std::vector<Sphere> spheres;
+  std::vector<bool> frozen;
+  std::vector<int> labels;  // cluster (index into `spheres`) of every shape vertex
+  MedialMesh mesh;          // spheres, edges and faces (shape coordinates)
+  std::size_t dropped_edits = 0;  // edits that meant nothing when their turn came (a sphere
+                                  // already gone, a split beyond the most spheres)
+};
+
+class EditSession {
+ public:
+  // Most edits waiting at once; more is an error (a front end gone wild, or an attack).
+  static constexpr std::size_t kMaxPendingEdits = 1000;
+
+  // Starts optimising at once (from one sphere, splitting up to options.target_spheres).
+  EditSession(Shape shape, const SkeletonizerOptions& options);
+  ~EditSession();  // stops the worker
+  EditSession(const EditSession&) = delete;
+  EditSession& operator=(const EditSession&) = delete;
+
+  // Edits; each throws InvalidOption when it cannot mean anything (a vertex out of range, a key
+  // not in the latest snapshot, a count out of range, too many edits waiting), and is otherwise
+  // applied before the next step.
+  void remove(std::uint64_t key);
+  void split_at(int vertex);  // a new sphere: the shrinking ball at `vertex`
+  void freeze(std::uint64_t key, bool frozen);
+  void set_target_spheres(int count);  // grows by splitting, shrinks by removing small clusters
+  void set_lambda(double lambda);
+  void pause(bool paused);
+
+  EditSnapshot snapshot() const;
+  const Shape& shape() const { return skeletonizer_->shape(); }
+  // Waits until a snapshot newer than `version` is published, or `timeout_ms` passes; returns
+  // the latest snapshot's version.
+  std::uint64_t wait_for_version(std::uint64_t version, int timeout_ms) const;
+
+ private:
+  struct Edit {
+    enum class Kind { Remove, Split, Freeze, Target, Lambda, Pause } kind;
+    std::uint64_t key = 0;
+    int value = 0;
+    double number = 0.0;
+  };
+
+  void enqueue(const Edit& edit);
+  void check_key(std::uint64_t key) const;  // caller holds mutex_
+  void work();
+  bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
+  void publish(double steps_per_second);
+
+  std::unique_ptr<Skeletonizer> skeletonizer_;
+  std::vector<std::uint64_t> keys_;  // worker's copy, parallel to the spheres
+  std::uint64_t next_key_ = 0;
+  bool paused_ = false;  // worker's copy
+  int iteration_ = 0;
+  std::size_t dropped_ = 0;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  std::deque<Edit> pending_;
+  EditSnapshot published_;
+  bool stop_ = false;
+  std::thread worker_;
+};
+
+}  // namespace vmas

@@ -1,0 +1,227 @@
+#include "vmas/edit_session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "vmas/error.hpp"
+
+namespace vmas {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A settled skeleton is still stepped (edits nearby must re-settle it), but no faster than this:
+// a converged run would otherwise keep a core busy for nothing.
+constexpr auto kSettledStepPause = std::chrono::milliseconds(20);
+
+}  // namespace
+
+EditSession::EditSession(Shape shape, const SkeletonizerOptions& options)
+    : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)) {
+  for (std::size_t i = 0; i < skeletonizer_->spheres().size(); ++i) keys_.push_back(next_key_++);
+  publish(0.0);
+  worker_ = std::thread([this] { work(); });
+}
+
+EditSession::~EditSession() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  worker_.join();
+}
+
+void EditSession::check_key(std::uint64_t key) const {
+  const auto& keys = published_.keys;
+  if (std::find(keys.begin(), keys.end(), key) == keys.end())
+    throw InvalidOption("no sphere with key " + std::to_string(key));
+}
+
+void EditSession::enqueue(const Edit& edit) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (edit.kind == Edit::Kind::Remove || edit.kind == Edit::Kind::Freeze) check_key(edit.key);
+    if (pending_.size() >= kMaxPendingEdits)
+      throw InvalidOption("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
+    pending_.push_back(edit);
+  }
+  changed_.notify_all();
+}
+
+void EditSession::remove(std::uint64_t key) { enqueue({Edit::Kind::Remove, key}); }
+
+void EditSession::split_at(int vertex) {
+  if (vertex < 0 || vertex >= shape().size())
+    throw InvalidOption("no vertex with index " + std::to_string(vertex));
+  enqueue({Edit::Kind::Split, 0, vertex});
+}
+
+void EditSession::freeze(std::uint64_t key, bool frozen) {
+  enqueue({Edit::Kind::Freeze, key, frozen ? 1 : 0});
+}
+
+void EditSession::set_target_spheres(int count) {
+  const int most = std::min(skeletonizer_->options().max_spheres, shape().size());
+  if (count < 1 || count > most)
+    throw InvalidOption("spheres", "must be between 1 and " + std::to_string(most) + " (got " +
+                                       std::to_string(count) + ")");
+  enqueue({Edit::Kind::Target, 0, count});
+}
+
+void EditSession::set_lambda(double lambda) {
+  if (!(lambda >= 0.0 && lambda <= 1e6))
+    throw InvalidOption("lambda", "must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
+  enqueue({Edit::Kind::Lambda, 0, 0, lambda});
+}
+
+void EditSession::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
+
+EditSnapshot EditSession::snapshot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return published_;
+}
+
+std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_ms) const {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
+                    [&] { return published_.version > version || stop_; });
+  return published_.version;
+}
+
+bool EditSession::apply(const Edit& edit) {
+  Skeletonizer& s = *skeletonizer_;
+  const auto id_of = [&](std::uint64_t key) {
+    const auto found = std::find(keys_.begin(), keys_.end(), key);
+    return found == keys_.end() ? -1 : static_cast<int>(found - keys_.begin());
+  };
+  switch (edit.kind) {
+    case Edit::Kind::Remove: {
+      const int id = id_of(edit.key);
+      if (id < 0 || keys_.size() == 1) return false;
+      s.remove_sphere(id);
+      keys_.erase(keys_.begin() + id);
+      // The user chose the count: a removed sphere stays removed.
+      s.set_target_spheres(static_cast<int>(keys_.size()));
+      return true;
+    }
+    case Edit::Kind::Split:
+      if (static_cast<int>(keys_.size()) >= std::min(s.options().max_spheres, s.shape().size()))
+        return false;
+      s.add_sphere_at(edit.value);
+      keys_.push_back(next_key_++);
+      s.set_target_spheres(std::max(s.options().target_spheres, static_cast<int>(keys_.size())));
+      return true;
+    case Edit::Kind::Freeze: {
+      const int id = id_of(edit.key);
+      if (id < 0) return false;
+      s.freeze(id, edit.value != 0);
+      return true;
+    }
+    case Edit::Kind::Target:
+      s.set_target_spheres(edit.value);
+      // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
+      while (static_cast<int>(keys_.size()) > edit.value) {
+        std::vector<int> sizes(keys_.size(), 0);
+        for (int label : s.labels()) ++sizes[label];
+        int smallest = -1;
+        for (int id = 0; id < static_cast<int>(keys_.size()); ++id)
+          if (!s.frozen(id) && (smallest < 0 || sizes[id] < sizes[smallest])) smallest = id;
+        if (smallest < 0) break;  // every sphere left is frozen
+        s.remove_sphere(smallest);
+        keys_.erase(keys_.begin() + smallest);
+      }
+      return true;
+    case Edit::Kind::Lambda:
+      s.set_lambda(edit.number);
+      return true;
+    case Edit::Kind::Pause:
+      paused_ = edit.value != 0;
+      return true;
+  }
+  return true;
+}
+
+void EditSession::publish(double steps_per_second) {
+  const Skeletonizer& s = *skeletonizer_;
+  EditSnapshot next;
+  next.iteration = iteration_;
+  next.steps_per_second = steps_per_second;
+  next.error = s.total_error();
+  next.paused = paused_;
+  next.target_spheres = s.options().target_spheres;
+  next.lambda = s.options().lambda;
+  next.keys = keys_;
+  next.spheres = s.spheres();
+  for (std::size_t id = 0; id < keys_.size(); ++id)
+    next.frozen.push_back(s.frozen(static_cast<int>(id)));
+  next.labels = s.labels();
+  next.mesh = s.medial_mesh();
+  next.dropped_edits = dropped_;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    next.version = published_.version + 1;
+    published_ = std::move(next);
+  }
+  changed_.notify_all();
+}
+
+void EditSession::work() {
+  Skeletonizer& s = *skeletonizer_;
+  double previous_error = s.total_error(), steps_per_second = 0.0;
+  int since_split = 0;
+  auto last_step = Clock::now();
+  for (;;) {
+    std::deque<Edit> edits;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      // Paused: sleep until an edit or the end comes.
+      changed_.wait(lock, [&] { return stop_ || !pending_.empty() || !paused_; });
+      if (stop_) return;
+      edits.swap(pending_);
+    }
+    bool edited = false;
+    for (const Edit& edit : edits) {
+      bool applied = false;
+      try {
+        applied = apply(edit);
+      } catch (const std::exception&) {
+        // Checked when queued; what can still fail here leaves the state as it was.
+      }
+      if (applied)
+        edited = true;
+      else
+        ++dropped_;
+    }
+    if (edited) since_split = 0;
+    if (paused_) {
+      publish(0.0);
+      continue;
+    }
+    const double error = s.step();
+    ++since_split;
+    const bool converged =
+        std::abs(previous_error - error) <= s.options().convergence * std::max(error, 1e-300);
+    previous_error = error;
+    if (s.wants_more_spheres() && (converged || since_split >= s.options().split_interval) &&
+        s.split() > 0) {
+      while (keys_.size() < s.spheres().size()) keys_.push_back(next_key_++);
+      since_split = 0;
+    }
+    const auto now = Clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_step).count();
+    last_step = now;
+    steps_per_second = seconds > 0.0 ? 1.0 / seconds : 0.0;
+    ++iteration_;
+    publish(steps_per_second);
+    if (converged && !s.wants_more_spheres()) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait_for(lock, kSettledStepPause, [&] { return stop_ || !pending_.empty(); });
+    }
+  }
+}
+
+}  // namespace vmas

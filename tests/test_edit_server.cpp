@@ -1,0 +1,189 @@
+// `vmas edit` over its HTTP protocol, as a browser (or another front end) speaks it: the binary
+// is started on port 0, its first stdout line gives the URL, and an HTTP client edits.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+
+#include "cli_fixture.hpp"
+#include "test_shapes.hpp"
+#include "vmas/io.hpp"
+// After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
+#include <httplib.h>
+
+namespace vmas {
+namespace {
+
+using json = nlohmann::json;
+
+class EditServer : public test::CliTest {
+ protected:
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    test::CliTest::TearDown();
+  }
+
+  // Starts `vmas edit ARGUMENTS` and reads the URL it prints first.
+  void start(const std::vector<std::string>& arguments) {
+    int pipe_ends[2];
+    ASSERT_EQ(pipe(pipe_ends), 0);
+    pid_ = fork();
+    ASSERT_GE(pid_, 0);
+    if (pid_ == 0) {
+      dup2(pipe_ends[1], STDOUT_FILENO);
+      freopen(path("stderr").c_str(), "w", stderr);
+      close(pipe_ends[0]);
+      std::vector<const char*> argv = {VMAS_CLI, "edit"};
+      for (const std::string& a : arguments) argv.push_back(a.c_str());
+      argv.push_back(nullptr);
+      execv(VMAS_CLI, const_cast<char* const*>(argv.data()));
+      _exit(127);
+    }
+    close(pipe_ends[1]);
+    FILE* out = fdopen(pipe_ends[0], "r");
+    char line[512] = {};
+    ASSERT_NE(fgets(line, sizeof line, out), nullptr) << test::read_text(path("stderr"));
+    std::smatch match;
+    const std::string url = line;
+    ASSERT_TRUE(std::regex_search(url, match, std::regex(R"(^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})\n$)")))
+        << url;
+    port_ = std::stoi(match[1]);
+    token_ = match[2];
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
+    client_->set_read_timeout(30, 0);
+  }
+
+  std::string api(const std::string& route) const { return route + "?token=" + token_; }
+
+  httplib::Result edit(const json& body) {
+    return client_->Post(api("/api/edit").c_str(), body.dump(), "application/json");
+  }
+
+  // Reads server-sent states until `done` says so (or 30 s); returns the last one.
+  json state_when(const std::function<bool(const json&)>& done) {
+    json last;
+    std::string buffer;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    httplib::Client events("127.0.0.1", port_);
+    events.set_read_timeout(30, 0);
+    events.Get(api("/api/events").c_str(), [&](const char* data, std::size_t size) {
+      buffer.append(data, size);
+      for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
+        const std::string event = buffer.substr(0, end);
+        buffer.erase(0, end + 2);
+        if (event.rfind("data: ", 0) != 0) continue;
+        last = json::parse(event.substr(6));
+        if (done(last)) return false;
+      }
+      return std::chrono::steady_clock::now() < deadline;
+    });
+    return last;
+  }
+
+  json state_with_spheres(std::size_t count) {
+    return state_when([&](const json& s) { return s["spheres"].size() == count; });
+  }
+
+  pid_t pid_ = -1;
+  int port_ = 0;
+  std::string token_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 53);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  write_surface(path("capsule.xyz"), cloud);
+  start({path("capsule.xyz"), "--spheres", "6", "-o", path("saved.ply"), "--threads", "1"});
+
+  const auto shape = client_->Get(api("/api/shape").c_str());
+  ASSERT_TRUE(shape);
+  ASSERT_EQ(shape->status, 200);
+  const std::uint32_t points = *reinterpret_cast<const std::uint32_t*>(shape->body.data());
+  EXPECT_EQ(shape->body.size(), 8 + 24 * static_cast<std::size_t>(points));
+  EXPECT_GT(points, 2000u);
+
+  const json grown = state_with_spheres(6);
+  ASSERT_EQ(grown["spheres"].size(), 6u);
+  EXPECT_TRUE(grown.contains("edges"));
+
+  // Remove one; the count stays down.
+  const std::uint64_t removed = grown["keys"][2];
+  auto reply = edit({{"op", "remove"}, {"key", removed}});
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->status, 200) << reply->body;
+  const json fewer = state_with_spheres(5);
+  ASSERT_EQ(fewer["spheres"].size(), 5u);
+  for (const auto& key : fewer["keys"]) EXPECT_NE(key.get<std::uint64_t>(), removed);
+
+  // Freeze one, split elsewhere: the frozen sphere does not move.
+  const std::uint64_t frozen = fewer["keys"][0];
+  EXPECT_EQ(edit({{"op", "freeze"}, {"key", frozen}, {"frozen", true}})->status, 200);
+  const json is_frozen = state_when([](const json& s) { return s["frozen"][0].get<bool>(); });
+  EXPECT_EQ(edit({{"op", "split"}, {"vertex", 17}})->status, 200);
+  const json split = state_when([&](const json& s) {
+    return s["spheres"].size() == 6 && s["iteration"] > is_frozen["iteration"].get<int>() + 5;
+  });
+  ASSERT_EQ(split["spheres"].size(), 6u);
+  EXPECT_EQ(split["keys"][0], frozen);
+  EXPECT_EQ(split["spheres"][0], is_frozen["spheres"][0]);
+
+  // Save: the file has the spheres the page shows.
+  reply = edit({{"op", "save"}});
+  ASSERT_EQ(reply->status, 200) << reply->body;
+  const MedialMesh saved = read_medial_mesh(path("saved.ply"));
+  EXPECT_EQ(saved.spheres.size(), json::parse(reply->body)["spheres"].get<std::size_t>());
+  EXPECT_EQ(client_->Get(api("/api/download").c_str())->body, test::read_text(path("saved.ply")));
+
+  // Ctrl-C stops it cleanly.
+  kill(pid_, SIGINT);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+
+TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
+  write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  start({path("ball.off"), "--spheres", "3", "--threads", "1"});
+  EXPECT_EQ(client_->Get("/api/shape")->status, 403);
+  EXPECT_EQ(client_->Get("/api/shape?token=0123")->status, 403);
+  EXPECT_EQ(client_->Get(api("/").c_str(), {{"Origin", "http://evil.example"}})->status, 403);
+  const auto page = client_->Get(api("/").c_str());
+  ASSERT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find(token_), std::string::npos);  // the script tags carry it
+
+  const json state = state_with_spheres(3);
+  ASSERT_EQ(state["spheres"].size(), 3u);
+  const auto refused = [&](const std::string& body) {
+    const auto r = client_->Post(api("/api/edit").c_str(), body, "application/json");
+    EXPECT_TRUE(r);
+    if (!r) return std::string();
+    EXPECT_GE(r->status, 400) << body;
+    return r->body;
+  };
+  EXPECT_NE(refused("not json").find("bad edit"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "explode"})").find("unknown op"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "remove", "key": 99999})").find("no sphere"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "split", "vertex": -4})").find("no vertex"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "save"})").find("no output"), std::string::npos);
+  refused(std::string(200 * 1024, 'x'));  // beyond the request size limit
+  // Still running and answering.
+  EXPECT_EQ(client_->Get(api("/api/shape").c_str())->status, 200);
+  EXPECT_EQ(state_with_spheres(3)["spheres"].size(), 3u);
+}
+
+}  // namespace
+}  // namespace vmas

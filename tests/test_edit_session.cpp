@@ -1,0 +1,145 @@
+// The live-editing engine (vmas/edit_session.hpp): a worker thread optimises while the test
+// thread edits, as a browser front end would.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+
+#include "test_shapes.hpp"
+#include "vmas/edit_session.hpp"
+#include "vmas/error.hpp"
+
+namespace vmas {
+namespace {
+
+std::unique_ptr<EditSession> capsule_session(int spheres) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 4000, 47);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  SkeletonizerOptions options;
+  options.target_spheres = spheres;
+  return std::make_unique<EditSession>(build_shape(cloud, ShapeOptions{}), options);
+}
+
+// The first snapshot that satisfies `done`, waiting at most 20 s (then the last one).
+EditSnapshot wait_until(const EditSession& session,
+                        const std::function<bool(const EditSnapshot&)>& done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  EditSnapshot snapshot = session.snapshot();
+  while (!done(snapshot) && std::chrono::steady_clock::now() < deadline) {
+    session.wait_for_version(snapshot.version, 100);
+    snapshot = session.snapshot();
+  }
+  return snapshot;
+}
+
+EditSnapshot settled(const EditSession& session, std::size_t spheres) {
+  return wait_until(session, [&](const EditSnapshot& s) { return s.spheres.size() == spheres; });
+}
+
+TEST(EditSession, GrowsToItsTargetWhileRunningAndLabelsEveryVertex) {
+  const auto session = capsule_session(8);
+  const EditSnapshot s = settled(*session, 8);
+  ASSERT_EQ(s.spheres.size(), 8u);
+  EXPECT_EQ(s.keys.size(), 8u);
+  EXPECT_EQ(s.frozen.size(), 8u);
+  EXPECT_EQ(s.mesh.spheres.size(), 8u);
+  EXPECT_EQ(s.labels.size(), static_cast<std::size_t>(session->shape().size()));
+  for (int label : s.labels) {
+    ASSERT_GE(label, 0);
+    ASSERT_LT(label, 8);
+  }
+  EXPECT_GT(s.iteration, 0);
+}
+
+TEST(EditSession, RemovedSphereStaysRemovedAndASplitAddsOne) {
+  const auto session = capsule_session(8);
+  const EditSnapshot before = settled(*session, 8);
+  const std::uint64_t gone = before.keys[3];
+  session->remove(gone);
+  const EditSnapshot after = settled(*session, 7);
+  ASSERT_EQ(after.spheres.size(), 7u);
+  EXPECT_EQ(std::count(after.keys.begin(), after.keys.end(), gone), 0);
+  EXPECT_EQ(after.target_spheres, 7);
+  // Later steps do not split it back.
+  const EditSnapshot later = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.iteration >= after.iteration + 15; });
+  EXPECT_EQ(later.spheres.size(), 7u);
+
+  session->split_at(123);
+  const EditSnapshot split = settled(*session, 8);
+  ASSERT_EQ(split.spheres.size(), 8u);
+  EXPECT_EQ(std::count_if(split.keys.begin(), split.keys.end(),
+                          [&](std::uint64_t k) {
+                            return std::find(later.keys.begin(), later.keys.end(), k) ==
+                                   later.keys.end();
+                          }),
+            1);
+}
+
+TEST(EditSession, FrozenSphereDoesNotMove) {
+  const auto session = capsule_session(6);
+  const EditSnapshot start = settled(*session, 6);
+  const std::uint64_t key = start.keys[2];
+  session->freeze(key, true);
+  const EditSnapshot frozen = wait_until(*session, [&](const EditSnapshot& s) {
+    const auto at = std::find(s.keys.begin(), s.keys.end(), key) - s.keys.begin();
+    return s.frozen[at];
+  });
+  const auto at = std::find(frozen.keys.begin(), frozen.keys.end(), key) - frozen.keys.begin();
+  ASSERT_TRUE(frozen.frozen[at]);
+  // A split elsewhere makes the others move; the frozen one keeps its place exactly.
+  session->split_at(7);
+  const EditSnapshot later = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.iteration >= frozen.iteration + 10; });
+  const auto now = std::find(later.keys.begin(), later.keys.end(), key) - later.keys.begin();
+  ASSERT_LT(now, static_cast<long>(later.keys.size()));
+  EXPECT_EQ(later.spheres[now].center, frozen.spheres[at].center);
+  EXPECT_EQ(later.spheres[now].radius, frozen.spheres[at].radius);
+}
+
+TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
+  const auto session = capsule_session(5);
+  const EditSnapshot start = settled(*session, 5);
+  EXPECT_THROW(session->remove(start.keys.back() + 1000), InvalidOption);
+  EXPECT_THROW(session->freeze(start.keys.back() + 1000, true), InvalidOption);
+  EXPECT_THROW(session->split_at(-1), InvalidOption);
+  EXPECT_THROW(session->split_at(session->shape().size()), InvalidOption);
+  EXPECT_THROW(session->set_target_spheres(0), InvalidOption);
+  EXPECT_THROW(session->set_lambda(-1.0), InvalidOption);
+
+  session->pause(true);
+  const EditSnapshot paused = wait_until(*session, [](const EditSnapshot& s) { return s.paused; });
+  ASSERT_TRUE(paused.paused);
+  session->wait_for_version(paused.version, 300);
+  EXPECT_EQ(session->snapshot().iteration, paused.iteration);
+  // A flood of edits (a front end gone wild): each is applied or refused, nothing else.
+  std::size_t refused = 0;
+  for (int i = 0; i < 5000; ++i) {
+    try {
+      session->set_lambda(0.2);
+    } catch (const InvalidOption&) {
+      ++refused;
+    }
+  }
+  EXPECT_LT(refused, 5000u);
+  session->pause(false);
+  const EditSnapshot resumed = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.iteration > paused.iteration + 2; });
+  EXPECT_FALSE(resumed.paused);
+  EXPECT_EQ(resumed.spheres.size(), 5u);
+}
+
+TEST(EditSession, ATargetBelowTheCountRemovesSpheresAtOnce) {
+  const auto session = capsule_session(9);
+  settled(*session, 9);
+  session->set_target_spheres(4);
+  const EditSnapshot s = settled(*session, 4);
+  EXPECT_EQ(s.spheres.size(), 4u);
+  EXPECT_EQ(s.target_spheres, 4);
+}
+
+}  // namespace
+}  // namespace vmas
