@@ -217,7 +217,8 @@ int edit_command(int argc, const char* const* argv) {
   httplib::Server server;
   server.set_payload_max_length(kMaxRequestBytes);
   const std::string token = random_token();
-  std::atomic<int> pages{0};
+  std::atomic<int> pages{0};                // event streams open now
+  std::atomic<bool> page_seen{false};       // ... and ever
   std::atomic<bool> stopping{false};
   int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
   if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
@@ -256,6 +257,7 @@ int edit_command(int argc, const char* const* argv) {
   });
   server.Get("/api/events", [&](const httplib::Request&, httplib::Response& res) {
     ++pages;
+    page_seen = true;
     auto sent = std::make_shared<Sent>();
     auto last = std::make_shared<std::chrono::steady_clock::time_point>();
     res.set_header("Cache-Control", "no-store");
@@ -306,17 +308,13 @@ int edit_command(int argc, const char* const* argv) {
     if (signal != SIGUSR1) stop();
   });
   std::thread close_watcher([&] {
-    bool seen_page = false;
     auto empty_since = std::chrono::steady_clock::now();
     while (!stopping) {
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
-      if (pages > 0) {
-        seen_page = true;
+      if (pages > 0 || !page_seen)
         empty_since = std::chrono::steady_clock::now();
-      } else if (exit_on_close && seen_page &&
-                 std::chrono::steady_clock::now() - empty_since > kCloseGrace) {
+      else if (exit_on_close && std::chrono::steady_clock::now() - empty_since > kCloseGrace)
         stop();
-      }
     }
   });
 

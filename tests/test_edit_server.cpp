@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <thread>
 
 #include "cli_fixture.hpp"
 #include "test_shapes.hpp"
@@ -183,6 +184,28 @@ TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   // Still running and answering.
   EXPECT_EQ(client_->Get(api("/api/shape").c_str())->status, 200);
   EXPECT_EQ(state_with_spheres(3)["spheres"].size(), 3u);
+}
+
+TEST_F(EditServer, SeveralPagesSeeOneStateAndClosingTheLastStopsWithExitOnClose) {
+  write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  start({path("ball.off"), "--spheres", "4", "--threads", "1", "--exit-on-close"});
+  // Two pages at once: both follow the same session.
+  json first, second;
+  std::thread other([&] { second = state_with_spheres(4); });
+  first = state_with_spheres(4);
+  other.join();
+  ASSERT_EQ(first["spheres"].size(), 4u);
+  ASSERT_EQ(second["spheres"].size(), 4u);
+  EXPECT_EQ(first["keys"], second["keys"]);
+  // Both streams are closed now: vmas stops by itself, cleanly, a few seconds later.
+  int status = 0;
+  pid_t done = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while ((done = waitpid(pid_, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(done, pid_) << "still running 20 s after the last page closed";
+  pid_ = -1;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
 }
 
 }  // namespace
