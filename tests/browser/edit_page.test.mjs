@@ -1,0 +1,330 @@
+// Headless browser test of the page of `vmas edit` (apps/edit_page.html), as a person uses it:
+// the page loads and draws without a console or page error, the optimisation reaches its sphere
+// count, a sphere under the mouse is removed with D, a point's cluster is split with S, W saves
+// the skeleton (and downloads it), and Ctrl-C (SIGINT) stops vmas with exit code 0.
+//
+// usage: node tests/browser/edit_page.test.mjs [VMAS_BINARY]      (or scripts/test-browser)
+//
+// Environment:
+//   VMAS_BINARY      vmas to run when no argument is given (default: build/vmas of this repo)
+//   VMAS_CHROMIUM    the browser (default /usr/bin/chromium, Debian's; playwright-core drives it)
+//   VMAS_SCREENSHOT  where the screenshot of the page goes (default TMP/edit.png, TMP kept)
+//   KEEPTMP=1        keep the temporary folder (input, saved skeleton, download, vmas's stderr)
+// Prints one line per check and ends with 'N passed, N failed, N skipped'; exits 1 on a failure.
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import readline from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const WAIT_MS = 60_000;        // every wait of the test
+const OVERALL_MS = 5 * 60_000; // the whole test, a watchdog
+const SPHERES = 12;
+const VIEWPORT = { width: 1280, height: 800 };
+
+const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const vmasBinary = path.resolve(process.argv[2] || process.env.VMAS_BINARY || path.join(repo, 'build/vmas'));
+const chromiumBinary = process.env.VMAS_CHROMIUM || '/usr/bin/chromium';
+const tmp = fs.mkdtempSync(path.join(process.env.TMPDIR || os.tmpdir(), 'vmas-test-browser-'));
+const screenshotPath = path.resolve(process.env.VMAS_SCREENSHOT || path.join(tmp, 'edit.png'));
+const keepTmp = !!process.env.KEEPTMP || !process.env.VMAS_SCREENSHOT;
+const started = Date.now();
+
+// --- checks ---------------------------------------------------------------------------------
+const results = { passed: 0, failed: 0 };
+const pending = [];  // names of the checks still to run: skipped after a failure
+async function check(name, body) {
+  pending.shift();
+  const t0 = Date.now();
+  try {
+    const detail = await body();
+    results.passed++;
+    console.log(`ok:   ${name}${detail ? ` (${detail})` : ''} [${((Date.now() - t0) / 1000).toFixed(1)} s]`);
+  } catch (error) {
+    results.failed++;
+    console.log(`FAIL: ${name}: ${error.message.split('\n').join('\n      ')}`);
+    throw error;
+  }
+}
+const fail = (message) => { throw new Error(message); };
+
+// --- the input: a tilted torus, 20 000 points without normals (XYZ) -------------------------
+function writeTorus(file, count) {
+  let seed = 12345;  // a small LCG: the same cloud every run
+  const random = () => ((seed = (Math.imul(seed, 1664525) + 1013904223) >>> 0) / 2 ** 32);
+  const R = 1.0, r = 0.35, tilt = Math.PI / 4;
+  const lines = [];
+  while (lines.length < count) {
+    // Uniform on the surface: reject by the area element (R + r cos v) / (R + r).
+    const u = 2 * Math.PI * random(), v = 2 * Math.PI * random();
+    if (random() * (R + r) > R + r * Math.cos(v)) continue;
+    const x = (R + r * Math.cos(v)) * Math.cos(u), y = (R + r * Math.cos(v)) * Math.sin(u);
+    const z = r * Math.sin(v);
+    // Tilted about x, so that the ring is seen at an angle from the page's default camera.
+    const yt = y * Math.cos(tilt) - z * Math.sin(tilt), zt = y * Math.sin(tilt) + z * Math.cos(tilt);
+    lines.push(`${x.toFixed(6)} ${yt.toFixed(6)} ${zt.toFixed(6)}`);
+  }
+  fs.writeFileSync(file, lines.join('\n') + '\n');
+}
+
+// The vertex count of a PLY file's header (ASCII or binary).
+function plyVertexCount(file) {
+  const bytes = fs.readFileSync(file);
+  const end = bytes.indexOf('end_header');
+  if (bytes.subarray(0, 4).toString('latin1') !== 'ply\n' || end < 0) fail(`${file} is not a PLY file`);
+  const match = /^element vertex (\d+)$/m.exec(bytes.subarray(0, end).toString('latin1'));
+  if (!match) fail(`${file}: no 'element vertex N' in its header`);
+  return Number(match[1]);
+}
+
+// --- the run --------------------------------------------------------------------------------
+let vmas = null, browser = null, vmasExit = null;
+const vmasStderr = [];
+const pageErrors = [];  // console errors and uncaught exceptions of the page, as they come
+
+async function main() {
+  const input = path.join(tmp, 'torus.xyz'), saved = path.join(tmp, 'saved.ply');
+  let url = '', page = null, status = '';
+  const statusText = async () => (await page.textContent('#status')) || '';
+  // Waits until #status matches PATTERN; fails with the last status seen.
+  const waitForStatus = async (pattern, what) => {
+    const deadline = Date.now() + WAIT_MS;
+    for (;;) {
+      status = await statusText();
+      if (pattern.test(status)) return status;
+      if (vmasExit) fail(`vmas exited (${vmasExit}) while waiting for ${what}`);
+      if (Date.now() > deadline) fail(`no ${what} after ${WAIT_MS / 1000} s; status: '${status}'`);
+      await page.waitForTimeout(100);
+    }
+  };
+  const noPageErrors = () => {
+    if (pageErrors.length) fail(`${pageErrors.length} error(s) on the page:\n${pageErrors.join('\n')}`);
+  };
+  // Positions on the canvas outside the panel (top left): a coarse grid, then finer ones, each
+  // from the middle outwards (a mouse move costs a frame of software rendering: few of them).
+  const positions = async () => {
+    const panel = await page.locator('#panel').boundingBox();
+    const [cx, cy] = [VIEWPORT.width / 2, VIEWPORT.height / 2];
+    const list = [], seen = new Set();
+    for (const step of [96, 48, 24]) {
+      const grid = [];
+      for (let y = cy % step; y < VIEWPORT.height; y += step)
+        for (let x = cx % step; x < VIEWPORT.width; x += step)
+          if (!seen.has(`${x},${y}`) && !(x <= panel.x + panel.width + 4 && y <= panel.y + panel.height + 4)) {
+            seen.add(`${x},${y}`);
+            grid.push([x, y]);
+          }
+      list.push(...grid.sort((a, b) => Math.hypot(a[0] - cx, a[1] - cy) - Math.hypot(b[0] - cx, b[1] - cy)));
+    }
+    return list;
+  };
+  // Moves the mouse over POSITIONS until the status line names a hovered sphere; returns its key.
+  const hoverSphere = async (list) => {
+    while (list.length) {
+      const [x, y] = list.shift();
+      await page.mouse.move(x, y);
+      const match = / hovered sphere (\d+)/.exec(await statusText());
+      if (match) return { key: Number(match[1]), x, y };
+    }
+    fail('no position on the canvas hovers a sphere (the status line never says "hovered sphere")');
+  };
+  // The next POST /api/edit with op OP within MS, or null.
+  const nextEdit = (op, ms) => page.waitForRequest(
+    (r) => r.method() === 'POST' && new URL(r.url()).pathname === '/api/edit' && r.postDataJSON()?.op === op,
+    { timeout: ms }).catch(() => null);
+
+  pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
+    'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
+    'D removes the hovered sphere', 'S splits the hovered point\'s cluster',
+    'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
+    'SIGINT stops vmas with exit code 0');
+
+  await check('vmas edit starts and prints the page URL', async () => {
+    if (!fs.existsSync(vmasBinary)) fail(`no vmas binary at ${vmasBinary} (build it: scripts/build)`);
+    writeTorus(input, 20_000);
+    vmas = spawn(vmasBinary, ['edit', input, '--spheres', String(SPHERES), '-o', saved, '--threads', '2'],
+                 { stdio: ['ignore', 'pipe', 'pipe'] });
+    vmas.stderr.on('data', (chunk) => vmasStderr.push(chunk.toString()));
+    const exited = new Promise((resolve) => vmas.on('exit', (code, signal) => {
+      vmasExit = signal ? `signal ${signal}` : `code ${code}`;
+      resolve({ code, signal });
+    }));
+    vmas.exited = exited;
+    const lines = readline.createInterface({ input: vmas.stdout });
+    url = await Promise.race([
+      new Promise((resolve) => lines.once('line', resolve)),
+      exited.then(() => fail(`vmas exited (${vmasExit}) before printing a URL:\n${vmasStderr.join('')}`)),
+      new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL on stdout after ${WAIT_MS / 1000} s`)), WAIT_MS)),
+    ]);
+    lines.on('line', () => {});  // keep reading stdout
+    if (!/^http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]{32}$/.test(url)) fail(`first stdout line is not the page URL: '${url}'`);
+    return url.replace(/token=.*/, 'token=…');
+  });
+
+  await check('chromium has WebGL', async () => {
+    if (!fs.existsSync(chromiumBinary)) fail(`no browser at ${chromiumBinary} (apt-get install chromium)`);
+    // No GPU here: WebGL through SwiftShader, Chromium's software renderer.
+    browser = await chromium.launch({
+      executablePath: chromiumBinary, timeout: WAIT_MS,
+      args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+             // This machine's network is closed: no background connections, no QUIC.
+             '--disable-background-networking', '--disable-component-update', '--disable-sync',
+             '--disable-quic', '--no-first-run'] });
+    const context = await browser.newContext({ viewport: VIEWPORT, acceptDownloads: true });
+    context.setDefaultTimeout(WAIT_MS);
+    page = await context.newPage();
+    page.on('console', (message) => {
+      if (message.type() === 'error') pageErrors.push(`console error: ${message.text()} (${message.location().url || 'page'})`);
+    });
+    page.on('pageerror', (error) => pageErrors.push(`uncaught: ${error.message}`));
+    page.on('crash', () => pageErrors.push('the page crashed'));
+    const renderer = await page.evaluate(() => {
+      const gl = document.createElement('canvas').getContext('webgl');
+      if (!gl) return null;
+      const info = gl.getExtension('WEBGL_debug_renderer_info');
+      return gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
+    });
+    if (!renderer) fail('no WebGL context in this chromium (SwiftShader missing?)');
+    return `chromium ${browser.version()}, ${renderer}`;
+  });
+
+  await check('the page loads (three.js, shape, events)', async () => {
+    const failed = [];
+    page.on('response', (r) => { if (r.status() >= 400) failed.push(`${r.status()} ${r.url().replace(/token=[0-9a-f]+/, 'token=…')}`); });
+    page.on('requestfailed', (r) => {
+      if (!/api\/events/.test(r.url())) failed.push(`${r.failure()?.errorText} ${r.url().replace(/token=[0-9a-f]+/, 'token=…')}`);
+    });
+    const response = await page.goto(url, { waitUntil: 'load' });
+    if (!response.ok()) fail(`GET / answered ${response.status()}`);
+    if (!(await page.evaluate(() => typeof THREE === 'object' && typeof THREE.OrbitControls === 'function')))
+      fail('three.js or its OrbitControls did not load (libjs-three installed?)');
+    if ((await page.locator('#view canvas').count()) !== 1) fail('no canvas in #view');
+    await waitForStatus(/^spheres \d+\/\d+ /, 'state from /api/events');
+    if (failed.length) fail(`failed requests:\n${failed.join('\n')}`);
+    noPageErrors();
+    return status;
+  });
+
+  await check(`the optimisation reaches ${SPHERES} spheres`, async () => {
+    await waitForStatus(new RegExp(`^spheres ${SPHERES}/${SPHERES} `), `'spheres ${SPHERES}/${SPHERES}'`);
+    noPageErrors();
+    return status;
+  });
+
+  let list = await positions();
+  await check('D removes the hovered sphere', async () => {
+    const hovered = await hoverSphere(list);
+    const request = nextEdit('remove', WAIT_MS);
+    await page.keyboard.press('d');
+    const sent = await request;
+    if (!sent) fail(`D with sphere ${hovered.key} hovered sent no remove edit`);
+    if (sent.postDataJSON().key !== hovered.key)
+      fail(`D sent ${sent.postData()}, but the hovered sphere is ${hovered.key}`);
+    const reply = await sent.response();
+    if (!reply.ok()) fail(`remove refused: ${reply.status()} ${await reply.text()}`);
+    await waitForStatus(new RegExp(`^spheres ${SPHERES - 1}/${SPHERES - 1} `), `'spheres ${SPHERES - 1}/${SPHERES - 1}'`);
+    noPageErrors();
+    // The mouse has not moved: the status line names no other sphere as hovered (the page
+    // follows the hovered sphere by key; by index, a removal would pass it to a neighbour).
+    if (/ hovered sphere /.test(status)) fail(`after removing sphere ${hovered.key}, still '${status}'`);
+    return `sphere ${hovered.key} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}`;
+  });
+
+  await check('S splits the hovered point\'s cluster', async () => {
+    // A sphere can be hovered without a point under the mouse: then S only says so, and the
+    // next position is tried.
+    list = await positions();
+    for (let tries = 0; ; ++tries) {
+      if (tries === 50) fail('S sent no split edit at 50 hovered positions ("hover a point" every time)');
+      const hovered = await hoverSphere(list);
+      const request = nextEdit('split', 1000);
+      await page.keyboard.press('s');
+      const sent = await request;
+      if (!sent) continue;
+      const vertex = sent.postDataJSON().vertex;
+      if (!Number.isInteger(vertex) || vertex < 0 || vertex >= 20_000) fail(`S sent ${sent.postData()}`);
+      const reply = await sent.response();
+      if (!reply.ok()) fail(`split refused: ${reply.status()} ${await reply.text()}`);
+      await waitForStatus(new RegExp(`^spheres ${SPHERES}/${SPHERES} `), `'spheres ${SPHERES}/${SPHERES}'`);
+      noPageErrors();
+      return `point ${vertex} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}`;
+    }
+  });
+
+  await check('W saves the skeleton and downloads it', async () => {
+    const request = nextEdit('save', WAIT_MS);
+    const download = page.waitForEvent('download', { timeout: WAIT_MS });
+    await page.keyboard.press('w');
+    const sent = await request;
+    if (!sent) fail('W sent no save edit');
+    const reply = await (await sent.response()).json();
+    if (!reply.ok) fail(`save refused: ${JSON.stringify(reply)}`);
+    if (!fs.existsSync(saved)) fail(`the reply says saved, but there is no ${saved}`);
+    const shown = Number(/^spheres (\d+)\//.exec(await statusText())[1]);
+    const vertices = plyVertexCount(saved);
+    if (vertices !== shown || reply.spheres !== shown)
+      fail(`${saved} has ${vertices} vertices, the reply says ${reply.spheres} spheres, the status line ${shown}`);
+    const file = await download;
+    if (file.suggestedFilename() !== 'saved.ply') fail(`download named '${file.suggestedFilename()}', not saved.ply`);
+    const downloaded = path.join(tmp, 'downloaded.ply');
+    await file.saveAs(downloaded);
+    if (!fs.readFileSync(downloaded).equals(fs.readFileSync(saved))) fail('the download differs from the saved file');
+    const message = await page.textContent('#message');
+    if (!message.includes(`saved ${shown} spheres`)) fail(`message after saving: '${message}'`);
+    noPageErrors();
+    return `${vertices} vertices in the PLY header, ${shown} spheres shown; download identical`;
+  });
+
+  await check('screenshot', async () => {
+    await page.mouse.move(VIEWPORT.width - 5, VIEWPORT.height - 5);  // nothing hovered
+    await page.waitForTimeout(500);
+    fs.mkdirSync(path.dirname(screenshotPath), { recursive: true });
+    await page.screenshot({ path: screenshotPath });
+    if (fs.statSync(screenshotPath).size < 10_000) fail(`${screenshotPath} is suspiciously small`);
+    return screenshotPath;
+  });
+
+  await check('no console or page error', async () => {
+    noPageErrors();
+  });
+
+  await check('SIGINT stops vmas with exit code 0', async () => {
+    // The page stays connected (its event stream open), as when a person presses Ctrl-C.
+    vmas.kill('SIGINT');
+    const timeout = new Promise((resolve) => setTimeout(() => resolve(null), WAIT_MS));
+    const exit = await Promise.race([vmas.exited, timeout]);
+    if (!exit) fail(`vmas still running ${WAIT_MS / 1000} s after SIGINT`);
+    if (exit.code !== 0) fail(`vmas exited with ${vmasExit}:\n${vmasStderr.join('').slice(-2000)}`);
+    return 'code 0';
+  });
+}
+
+const watchdog = setTimeout(() => {
+  console.log(`FAIL: the test did not finish within ${OVERALL_MS / 1000} s`);
+  if (vmas && !vmasExit) vmas.kill('SIGKILL');
+  process.exit(1);
+}, OVERALL_MS);
+
+try {
+  await main();
+} catch (error) {
+  if (!results.failed) {  // an error outside a check
+    results.failed++;
+    console.log(`FAIL: ${error.stack}`);
+  }
+  if (vmasStderr.length) console.log(`      vmas's stderr (last lines):\n${vmasStderr.join('').trimEnd().split('\n').slice(-10).map((l) => `      | ${l}`).join('\n')}`);
+} finally {
+  clearTimeout(watchdog);
+  if (browser) await browser.close().catch(() => {});
+  if (vmas && !vmasExit) {
+    vmas.kill('SIGKILL');
+    await vmas.exited;
+  }
+  if (results.failed || keepTmp) console.log(`      (temporary folder kept: ${tmp})`);
+  else fs.rmSync(tmp, { recursive: true, force: true });
+}
+console.log(`test-browser: ${((Date.now() - started) / 1000).toFixed(1)} s`);
+console.log(`${results.passed} passed, ${results.failed} failed${pending.length ? `, ${pending.length} skipped` : ''}`);
+process.exit(results.failed ? 1 : 0);
