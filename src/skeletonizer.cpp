@@ -41,8 +41,6 @@ void SkeletonizerOptions::validate() const {
   if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
     throw InvalidOption("settle iterations must be in [0, max settle iterations]");
   if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
-  if (step_update_iterations < 1 || step_update_iterations > update.max_iterations)
-    throw InvalidOption("update iterations per step must be between 1 and the update's maximum");
   update.validate();
   shrinking_ball.validate();
   split.validate();
@@ -164,17 +162,15 @@ double Skeletonizer::step() {
   // A cluster that shrank to a handful of vertices carries no shape information: its sphere is
   // better spent where the error is largest (this keeps the sphere count exact).
   if (reseed_tiny_clusters()) repartition();
-  fit_and_project(options_.lambda, options_.step_update_iterations);
+  fit_and_project(options_.lambda);
   refresh_errors(true);
   return total_error_;
 }
 
-void Skeletonizer::fit_and_project(double lambda, int iterations) {
+void Skeletonizer::fit_and_project(double lambda) {
   const int count = static_cast<int>(spheres_.size());
   const auto start = Clock::now();
   std::vector<Sphere> fitted = spheres_;
-  UpdateOptions update = options_.update;
-  update.max_iterations = iterations;
   // Each sphere is fitted and projected by the same thread, in one parallel loop: a loop per
   // stage would add a barrier, and on a virtual machine waking the waiting threads costs ~0.1 ms.
   // The summary's update and projection times split the loop's wall time by their thread time.
@@ -183,7 +179,7 @@ void Skeletonizer::fit_and_project(double lambda, int iterations) {
   for (int c = 0; c < count; ++c) {
     if (frozen_[c]) continue;
     const auto fit_start = Clock::now();
-    fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, update);
+    fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
     const auto projection_start = Clock::now();
     if (options_.project) fitted[c] = projector_.project(fitted[c].center);
     fit_seconds += std::chrono::duration<double>(projection_start - fit_start).count();
@@ -303,7 +299,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
       for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
         repartition();
     }
-    fit_and_project(options_.final_lambda, options_.update.max_iterations);
+    fit_and_project(options_.final_lambda);
     refresh_errors(true);
     if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <thread>
 
 #include "test_shapes.hpp"
 #include "vmas/edit_session.hpp"
@@ -125,7 +126,17 @@ TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
     }
   }
   EXPECT_LT(refused, 5000u);
-  session->pause(false);
+  // Once the worker has caught up, edits are taken again.
+  bool resumed_ok = false;
+  for (int attempt = 0; attempt < 100 && !resumed_ok; ++attempt) {
+    try {
+      session->pause(false);
+      resumed_ok = true;
+    } catch (const InvalidOption&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  ASSERT_TRUE(resumed_ok);
   const EditSnapshot resumed = wait_until(
       *session, [&](const EditSnapshot& s) { return s.iteration > paused.iteration + 2; });
   EXPECT_FALSE(resumed.paused);

@@ -31,9 +31,6 @@ struct SkeletonizerOptions {
   int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
                                    // of the worst cluster after a partition
   bool project = true;             // shrinking-ball correction after every update (§3.3)
-  // Gauss–Newton steps per sphere in each optimisation step: the projection moves the sphere
-  // anyway and the next step goes on from there; the final refits take update.max_iterations.
-  int step_update_iterations = 10;
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
@@ -111,8 +108,7 @@ class Skeletonizer {
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
-  // Update (+ projection) of every unfrozen sphere, with at most `iterations` Gauss–Newton steps.
-  void fit_and_project(double lambda, int iterations);
+  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere
   void check_id(int id) const;
 
   Shape shape_;
