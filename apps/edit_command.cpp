@@ -68,7 +68,22 @@ struct Sent {
   std::vector<int> labels;
 };
 
-json state_message(const EditSnapshot& s, Sent& sent, const std::vector<Warning>& warnings) {
+// What preparation found, for the page's first message: shown once, it does not change.
+json preparation_summary(const Result& prepared, int points) {
+  const PrepareReport& report = prepared.prepare;
+  const double diagonal = report.diagonal > 0.0 ? report.diagonal : 1.0;
+  json warnings = json::array();
+  for (const Warning& w : prepared.warnings)
+    warnings.push_back({{"code", w.code}, {"message", w.message}});
+  return {{"points", points},
+          {"thinned_from", report.thinned_from},
+          {"outliers", report.outliers},
+          {"noise_percent", std::round(1e4 * report.noise.sigma / diagonal) / 1e2},
+          {"smoothed", report.mls_radius > 0.0},
+          {"warnings", warnings}};
+}
+
+json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
   json spheres = json::array();
   for (const Sphere& sphere : s.spheres)
     spheres.push_back({sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
@@ -100,11 +115,7 @@ json state_message(const EditSnapshot& s, Sent& sent, const std::vector<Warning>
       for (const auto& change : changes) sent.labels[change[0].get<std::size_t>()] = change[1];
     }
   }
-  if (sent.version == 0) {
-    json listed = json::array();
-    for (const Warning& w : warnings) listed.push_back({{"code", w.code}, {"message", w.message}});
-    message["warnings"] = listed;
-  }
+  if (sent.version == 0) message["preparation"] = preparation;
   sent.version = s.version;
   return message;
 }
@@ -209,7 +220,7 @@ int edit_command(int argc, const char* const* argv) {
 
   PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
   const Frame frame = prepared.result.prepare.frame;
-  const std::vector<Warning> warnings = prepared.result.warnings;
+  const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   EditSession session(std::move(prepared.shape), prepared.run);
   // The page draws the vertices the optimisation sees (faces: a later version).
   const std::string shape = shape_bytes(session.shape(), {});
@@ -271,7 +282,7 @@ int edit_command(int argc, const char* const* argv) {
           *last = std::chrono::steady_clock::now();
           std::string event = ": keep-alive\n\n";
           if (version > sent->version)
-            event = "data: " + state_message(session.snapshot(), *sent, warnings).dump() + "\n\n";
+            event = "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
           return sink.write(event.data(), event.size());
         },
         [&](bool) { --pages; });

@@ -116,6 +116,11 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   EXPECT_EQ(shape->body.size(), 8 + 24 * static_cast<std::size_t>(points));
   EXPECT_GT(points, 2000u);
 
+  const json first = state_when([](const json&) { return true; });
+  ASSERT_TRUE(first.contains("preparation")) << first.dump();
+  EXPECT_EQ(first["preparation"]["points"].get<std::uint32_t>(), points);
+  EXPECT_EQ(first["preparation"]["thinned_from"], 0);
+  EXPECT_TRUE(first["preparation"]["warnings"].empty());
   const json grown = state_with_spheres(6);
   ASSERT_EQ(grown["spheres"].size(), 6u);
   EXPECT_TRUE(grown.contains("edges"));

@@ -99,6 +99,22 @@ async function main() {
       await page.waitForTimeout(100);
     }
   };
+  // Latency of an edit as a user sees it, measured in the page: from the key press to the
+  // status line showing PATTERN (printed, not judged: the README gives the target).
+  const armLatency = (pattern) => page.evaluate((source) => {
+    const re = new RegExp(source), status = document.getElementById('status');
+    window.vmasLatency = new Promise((resolve) => {
+      let pressed = null;
+      window.addEventListener('keydown', () => { pressed = performance.now(); }, { once: true, capture: true });
+      const observer = new MutationObserver(() => {
+        if (pressed === null || !re.test(status.textContent)) return;
+        observer.disconnect();
+        resolve(Math.round(performance.now() - pressed));
+      });
+      observer.observe(status, { childList: true, characterData: true, subtree: true });
+    });
+  }, pattern.source);
+  const latency = () => page.evaluate(() => window.vmasLatency);
   const noPageErrors = () => {
     if (pageErrors.length) fail(`${pageErrors.length} error(s) on the page:\n${pageErrors.join('\n')}`);
   };
@@ -217,6 +233,7 @@ async function main() {
   await check('D removes the hovered sphere', async () => {
     const hovered = await hoverSphere(list);
     const request = nextEdit('remove', WAIT_MS);
+    await armLatency(new RegExp(`^spheres ${SPHERES - 1}/${SPHERES - 1} `));
     await page.keyboard.press('d');
     const sent = await request;
     if (!sent) fail(`D with sphere ${hovered.key} hovered sent no remove edit`);
@@ -229,7 +246,8 @@ async function main() {
     // The mouse has not moved: the status line names no other sphere as hovered (the page
     // follows the hovered sphere by key; by index, a removal would pass it to a neighbour).
     if (/ hovered sphere /.test(status)) fail(`after removing sphere ${hovered.key}, still '${status}'`);
-    return `sphere ${hovered.key} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}`;
+    return `sphere ${hovered.key} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}; ` +
+           `shown ${await latency()} ms after the key press`;
   });
 
   await check('S splits the hovered point\'s cluster', async () => {
@@ -240,6 +258,7 @@ async function main() {
       if (tries === 50) fail('S sent no split edit at 50 hovered positions ("hover a point" every time)');
       const hovered = await hoverSphere(list);
       const request = nextEdit('split', 1000);
+      await armLatency(new RegExp(`^spheres ${SPHERES}/${SPHERES} `));
       await page.keyboard.press('s');
       const sent = await request;
       if (!sent) continue;
@@ -249,7 +268,8 @@ async function main() {
       if (!reply.ok()) fail(`split refused: ${reply.status()} ${await reply.text()}`);
       await waitForStatus(new RegExp(`^spheres ${SPHERES}/${SPHERES} `), `'spheres ${SPHERES}/${SPHERES}'`);
       noPageErrors();
-      return `point ${vertex} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}`;
+      return `point ${vertex} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}; ` +
+             `shown ${await latency()} ms after the key press`;
     }
   });
 
