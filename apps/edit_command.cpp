@@ -218,22 +218,22 @@ int edit_command(int argc, const char* const* argv) {
   sigaddset(&stop_signals, SIGUSR1);  // sent by this program to end the watcher
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
-  const Frame frame = prepared.result.prepare.frame;
-  const json preparation = preparation_summary(prepared.result, prepared.shape.size());
-  EditSession session(std::move(prepared.shape), prepared.run);
-  // The page draws the vertices the optimisation sees (faces: a later version).
-  const std::string shape = shape_bytes(session.shape(), {});
-
+  // Listening first: a port in use or a foreign address fails before the input is prepared.
   httplib::Server server;
   server.set_payload_max_length(kMaxRequestBytes);
   const std::string token = random_token();
   std::atomic<int> pages{0};                // event streams open now
   std::atomic<bool> page_seen{false};       // ... and ever
   std::atomic<bool> stopping{false};
-  int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
+  const int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
   if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
   const std::string origin = "http://" + host + ":" + std::to_string(bound);
+  PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
+  const Frame frame = prepared.result.prepare.frame;
+  const json preparation = preparation_summary(prepared.result, prepared.shape.size());
+  EditSession session(std::move(prepared.shape), prepared.run);
+  // The page draws the vertices the optimisation sees (faces: a later version).
+  const std::string shape = shape_bytes(session.shape(), {});
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
   // page (its Origin) is refused even with it.

@@ -22,6 +22,8 @@ import { chromium } from 'playwright-core';
 const WAIT_MS = 60_000;        // every wait of the test
 const OVERALL_MS = 5 * 60_000; // the whole test, a watchdog
 const SPHERES = 12;
+// Points of the generated input (VMAS_BROWSER_POINTS: e.g. 300000 for a big scan, which vmas thins).
+const POINTS = Number(process.env.VMAS_BROWSER_POINTS || 20_000);
 const VIEWPORT = { width: 1280, height: 800 };
 
 const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
@@ -50,7 +52,7 @@ async function check(name, body) {
 }
 const fail = (message) => { throw new Error(message); };
 
-// --- the input: a tilted torus, 20 000 points without normals (XYZ) -------------------------
+// --- the input: a tilted torus, POINTS points without normals (XYZ) ----------------------------
 function writeTorus(file, count) {
   let seed = 12345;  // a small LCG: the same cloud every run
   const random = () => ((seed = (Math.imul(seed, 1664525) + 1013904223) >>> 0) / 2 ** 32);
@@ -159,7 +161,7 @@ async function main() {
 
   await check('vmas edit starts and prints the page URL', async () => {
     if (!fs.existsSync(vmasBinary)) fail(`no vmas binary at ${vmasBinary} (build it: scripts/build)`);
-    writeTorus(input, 20_000);
+    writeTorus(input, POINTS);
     vmas = spawn(vmasBinary, ['edit', input, '--spheres', String(SPHERES), '-o', saved, '--threads', '2'],
                  { stdio: ['ignore', 'pipe', 'pipe'] });
     vmas.stderr.on('data', (chunk) => vmasStderr.push(chunk.toString()));
@@ -263,7 +265,7 @@ async function main() {
       const sent = await request;
       if (!sent) continue;
       const vertex = sent.postDataJSON().vertex;
-      if (!Number.isInteger(vertex) || vertex < 0 || vertex >= 20_000) fail(`S sent ${sent.postData()}`);
+      if (!Number.isInteger(vertex) || vertex < 0 || vertex >= POINTS) fail(`S sent ${sent.postData()}`);
       const reply = await sent.response();
       if (!reply.ok()) fail(`split refused: ${reply.status()} ${await reply.text()}`);
       await waitForStatus(new RegExp(`^spheres ${SPHERES}/${SPHERES} `), `'spheres ${SPHERES}/${SPHERES}'`);
