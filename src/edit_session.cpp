@@ -13,9 +13,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A settled skeleton is still stepped (edits nearby must re-settle it), but no faster than this:
-// a converged run would otherwise keep a core busy for nothing.
-constexpr auto kSettledStepPause = std::chrono::milliseconds(20);
+// A settled skeleton is still stepped (edits nearby must re-settle it), but no faster than the
+// page is updated (30/s): spheres may trade a few vertices for ever without converging, and an
+// editor left open would otherwise keep a core busy for nothing.
+constexpr auto kSettledStepPause = std::chrono::milliseconds(33);
 
 }  // namespace
 
@@ -217,7 +218,8 @@ void EditSession::work() {
     steps_per_second = seconds > 0.0 ? 1.0 / seconds : 0.0;
     ++iteration_;
     publish(steps_per_second);
-    if (converged && !s.wants_more_spheres()) {
+    const bool settled = converged || since_split >= s.options().max_settle_iterations;
+    if (settled && !s.wants_more_spheres()) {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait_for(lock, kSettledStepPause, [&] { return stop_ || !pending_.empty(); });
     }
