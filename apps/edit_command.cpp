@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -47,7 +48,10 @@ constexpr const char* kThreeDirectory = "/usr/share/javascript/three";  // Debia
 constexpr auto kUpdateInterval = std::chrono::milliseconds(1000 / 30);  // at most 30 updates/s
 constexpr auto kKeepAlive = std::chrono::milliseconds(1000);
 constexpr std::size_t kMaxRequestBytes = 64 * 1024;
-// Label changes sent as a list below this many; above, the page fetches them all (binary).
+// Pages open at once: each event stream holds one of cpp-httplib's (at least 8) threads, and the
+// others must stay free for edits.
+constexpr int kMaxPages = 4;
+// Label changes sent as a list below this many; above, all labels are sent.
 constexpr std::size_t kMaxListedLabels = 4096;
 // With --exit-on-close: a reload (the page gone for a moment) must not stop the editor.
 constexpr auto kCloseGrace = std::chrono::seconds(3);
@@ -100,16 +104,16 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
                   {"spheres", spheres}};
   if (sent.version == 0 || s.mesh.edges != sent.edges) message["edges"] = sent.edges = s.mesh.edges;
   if (sent.version == 0 || s.mesh.faces != sent.faces) message["faces"] = sent.faces = s.mesh.faces;
+  // All labels travel in the event itself when many changed: fetched apart, they would be of
+  // another version than the changes that follow.
   if (sent.labels.size() != s.labels.size()) {
-    message["labels_changed"] = "all";
-    sent.labels = s.labels;
+    message["labels"] = sent.labels = s.labels;
   } else {
     json changes = json::array();
     for (std::size_t v = 0; v < s.labels.size() && changes.size() <= kMaxListedLabels; ++v)
       if (s.labels[v] != sent.labels[v]) changes.push_back({v, s.labels[v]});
     if (changes.size() > kMaxListedLabels) {
-      message["labels_changed"] = "all";
-      sent.labels = s.labels;
+      message["labels"] = sent.labels = s.labels;
     } else if (!changes.empty()) {
       message["label_changes"] = changes;
       for (const auto& change : changes) sent.labels[change[0].get<std::size_t>()] = change[1];
@@ -148,6 +152,15 @@ void reply_error(httplib::Response& res, int status, const std::string& message)
   res.set_content(json{{"error", message}}.dump(), "application/json");
 }
 
+// An integer field of an edit, checked before narrowing (JSON numbers may be anything).
+int integer_field(const json& edit, const char* name) {
+  const json& value = edit.at(name);
+  if (!value.is_number_integer() || value.get<std::int64_t>() < INT32_MIN ||
+      value.get<std::int64_t>() > INT32_MAX)
+    throw InvalidOption(std::string("\"") + name + "\" must be an integer of at most 2147483647");
+  return static_cast<int>(value.get<std::int64_t>());
+}
+
 // One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
                 const Frame& frame) {
@@ -157,13 +170,13 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
   if (op == "remove") {
     session.remove(edit.at("key").get<std::uint64_t>());
   } else if (op == "split") {
-    session.split_at(edit.at("vertex").get<int>());
+    session.split_at(integer_field(edit, "vertex"));
   } else if (op == "freeze") {
     session.freeze(edit.at("key").get<std::uint64_t>(), edit.value("frozen", true));
   } else if (op == "pause") {
     session.pause(edit.value("paused", true));
   } else if (op == "target") {
-    session.set_target_spheres(edit.at("spheres").get<int>());
+    session.set_target_spheres(integer_field(edit, "spheres"));
   } else if (op == "lambda") {
     session.set_lambda(edit.at("value").get<double>());
   } else if (op == "save") {
@@ -227,11 +240,12 @@ int edit_command(int argc, const char* const* argv) {
   std::atomic<bool> stopping{false};
   const int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
   if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
-  const std::string origin = "http://" + host + ":" + std::to_string(bound);
+  const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
+  const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
   PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
-  EditSession session(std::move(prepared.shape), prepared.run);
+  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads);
   // The page draws the vertices the optimisation sees (faces: a later version).
   const std::string shape = shape_bytes(session.shape(), {});
 
@@ -244,7 +258,10 @@ int edit_command(int argc, const char* const* argv) {
       reply_error(res, 403, "missing or wrong token: open the URL that vmas edit printed");
       return httplib::Server::HandlerResponse::Handled;
     }
-    if (req.has_header("Origin") && req.get_header_value("Origin") != origin) {
+    // The page's own origin is the address it was loaded from (with --host 0.0.0.0, another
+    // machine's name for this one): the Host header of the same request.
+    if (req.has_header("Origin") &&
+        req.get_header_value("Origin") != "http://" + req.get_header_value("Host")) {
       reply_error(res, 403, "requests from " + req.get_header_value("Origin") + " are refused");
       return httplib::Server::HandlerResponse::Handled;
     }
@@ -267,6 +284,9 @@ int edit_command(int argc, const char* const* argv) {
     res.set_content(std::move(bytes), "application/octet-stream");
   });
   server.Get("/api/events", [&](const httplib::Request&, httplib::Response& res) {
+    // Each stream holds one of the server's threads for as long as it is open.
+    if (pages >= kMaxPages)
+      return reply_error(res, 503, "too many pages open (" + std::to_string(kMaxPages) + ")");
     ++pages;
     page_seen = true;
     auto sent = std::make_shared<Sent>();
@@ -309,8 +329,13 @@ int edit_command(int argc, const char* const* argv) {
                     "application/octet-stream");
   });
 
+  std::atomic<bool> listening_over{false};
   const auto stop = [&] {
     stopping = true;
+    // server.stop() does nothing before listen has started (a Ctrl-C while the input was being
+    // prepared): wait for it to start, or for main to have skipped it.
+    while (!server.is_running() && !listening_over)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     server.stop();
   };
   std::thread signal_watcher([&] {
@@ -332,7 +357,8 @@ int edit_command(int argc, const char* const* argv) {
   std::cout << origin << "/?token=" << token << std::endl;
   std::cerr << "vmas edit: " << input << ", " << session.shape().size()
             << " points; open the URL above; Ctrl-C stops\n";
-  server.listen_after_bind();
+  if (!stopping) server.listen_after_bind();
+  listening_over = true;
   stopping = true;
   pthread_kill(signal_watcher.native_handle(), SIGUSR1);
   signal_watcher.join();

@@ -7,6 +7,10 @@
 
 #include "vmas/error.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace vmas {
 
 namespace {
@@ -20,8 +24,11 @@ constexpr auto kSettledStepPause = std::chrono::milliseconds(33);
 
 }  // namespace
 
-EditSession::EditSession(Shape shape, const SkeletonizerOptions& options)
-    : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)) {
+EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads)
+    : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)),
+      threads_(threads),
+      most_spheres_(std::min(options.max_spheres, skeletonizer_->shape().size())) {
+  if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
   for (std::size_t i = 0; i < skeletonizer_->spheres().size(); ++i) keys_.push_back(next_key_++);
   publish(0.0);
   worker_ = std::thread([this] { work(); });
@@ -66,10 +73,9 @@ void EditSession::freeze(std::uint64_t key, bool frozen) {
 }
 
 void EditSession::set_target_spheres(int count) {
-  const int most = std::min(skeletonizer_->options().max_spheres, shape().size());
-  if (count < 1 || count > most)
-    throw InvalidOption("spheres", "must be between 1 and " + std::to_string(most) + " (got " +
-                                       std::to_string(count) + ")");
+  if (count < 1 || count > most_spheres_)
+    throw InvalidOption("spheres", "must be between 1 and " + std::to_string(most_spheres_) +
+                                       " (got " + std::to_string(count) + ")");
   enqueue({Edit::Kind::Target, 0, count});
 }
 
@@ -110,8 +116,7 @@ bool EditSession::apply(const Edit& edit) {
       return true;
     }
     case Edit::Kind::Split:
-      if (static_cast<int>(keys_.size()) >= std::min(s.options().max_spheres, s.shape().size()))
-        return false;
+      if (static_cast<int>(keys_.size()) >= most_spheres_) return false;
       s.add_sphere_at(edit.value);
       keys_.push_back(next_key_++);
       s.set_target_spheres(std::max(s.options().target_spheres, static_cast<int>(keys_.size())));
@@ -171,6 +176,9 @@ void EditSession::publish(double steps_per_second) {
 }
 
 void EditSession::work() {
+#ifdef _OPENMP
+  if (threads_ > 0) omp_set_num_threads(threads_);  // per thread: this one runs every step
+#endif
   Skeletonizer& s = *skeletonizer_;
   double previous_error = s.total_error(), steps_per_second = 0.0;
   int since_split = 0;

@@ -185,6 +185,9 @@ TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   EXPECT_NE(refused(R"({"op": "remove", "key": 99999})").find("no sphere"), std::string::npos);
   EXPECT_NE(refused(R"({"op": "split", "vertex": -4})").find("no vertex"), std::string::npos);
   EXPECT_NE(refused(R"({"op": "save"})").find("no output"), std::string::npos);
+  // Numbers are checked before they are narrowed (2^32 + 1 once became a count of 1).
+  EXPECT_NE(refused(R"({"op": "target", "spheres": 4294967297})").find("integer"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "split", "vertex": 1e20})").find("integer"), std::string::npos);
   refused(std::string(200 * 1024, 'x'));  // beyond the request size limit
   // Still running and answering.
   EXPECT_EQ(client_->Get(api("/api/shape").c_str())->status, 200);

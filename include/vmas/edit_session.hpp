@@ -41,8 +41,9 @@ class EditSession {
   // Most edits waiting at once; more is an error (a front end gone wild, or an attack).
   static constexpr std::size_t kMaxPendingEdits = 1000;
 
-  // Starts optimising at once (from one sphere, splitting up to options.target_spheres).
-  EditSession(Shape shape, const SkeletonizerOptions& options);
+  // Starts optimising at once (from one sphere, splitting up to options.target_spheres), with
+  // `threads` OpenMP threads in the worker (0: OpenMP's default, all cores).
+  EditSession(Shape shape, const SkeletonizerOptions& options, int threads = 0);
   ~EditSession();  // stops the worker
   EditSession(const EditSession&) = delete;
   EditSession& operator=(const EditSession&) = delete;
@@ -78,6 +79,8 @@ class EditSession {
   void publish(double steps_per_second);
 
   std::unique_ptr<Skeletonizer> skeletonizer_;
+  const int threads_;
+  const int most_spheres_;  // max_spheres, or the vertex count if fewer (read by callers)
   std::vector<std::uint64_t> keys_;  // worker's copy, parallel to the spheres
   std::uint64_t next_key_ = 0;
   bool paused_ = false;  // worker's copy
