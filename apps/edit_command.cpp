@@ -124,26 +124,20 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
   return message;
 }
 
-// The shape, once: little-endian uint32 vertex count, uint32 face count, float32 positions,
-// float32 normals, uint32 face indices.
-std::string shape_bytes(const Shape& shape, const std::vector<std::array<int, 3>>& faces) {
+// The shape, once: little-endian uint32 vertex count, uint32 face count (0: the page draws the
+// vertices the optimisation sees), float32 positions, float32 normals.
+std::string shape_bytes(const Shape& shape) {
   std::string bytes;
   const auto put = [&](const void* data, std::size_t size) {
     bytes.append(static_cast<const char*>(data), size);
   };
-  const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()),
-                                   static_cast<std::uint32_t>(faces.size())};
+  const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()), 0};
   put(counts, sizeof counts);
   for (const auto* field : {&shape.points, &shape.normals})
     for (const Vec3& p : *field) {
       const float xyz[3] = {float(p.x()), float(p.y()), float(p.z())};
       put(xyz, sizeof xyz);
     }
-  for (const auto& face : faces) {
-    const std::uint32_t f[3] = {std::uint32_t(face[0]), std::uint32_t(face[1]),
-                                std::uint32_t(face[2])};
-    put(f, sizeof f);
-  }
   return bytes;
 }
 
@@ -246,8 +240,7 @@ int edit_command(int argc, const char* const* argv) {
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads);
-  // The page draws the vertices the optimisation sees (faces: a later version).
-  const std::string shape = shape_bytes(session.shape(), {});
+  const std::string shape = shape_bytes(session.shape());
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
   // page (its Origin) is refused even with it.

@@ -79,25 +79,29 @@ vmas::Skeletonizer* settled_scan_skeletonizer() {
   return skeletonizer.get();
 }
 
+// The skeletonizer a benchmark times, with the thread count of its argument; nullptr (the
+// benchmark reported as skipped) without the shared data.
+vmas::Skeletonizer* prepared_for(benchmark::State& state, vmas::Skeletonizer* skeletonizer,
+                                 const std::string& model) {
+  if (!skeletonizer)
+    state.SkipWithError(("shared data not found: " + data_path(model)).c_str());
+  else
+    omp_set_num_threads(static_cast<int>(state.range(0)));
+  return skeletonizer;
+}
+
 void BM_Step(benchmark::State& state) {
-  vmas::Skeletonizer* skeletonizer = settled_skeletonizer();
-  if (!skeletonizer) {
-    state.SkipWithError(("shared data not found: " + data_path()).c_str());
-    return;
-  }
-  omp_set_num_threads(static_cast<int>(state.range(0)));
+  vmas::Skeletonizer* skeletonizer = prepared_for(state, settled_skeletonizer(), "vessel");
+  if (!skeletonizer) return;
   for (auto _ : state) benchmark::DoNotOptimize(skeletonizer->step());
   state.counters["vertices"] = skeletonizer->shape().size();
   state.counters["spheres"] = static_cast<double>(skeletonizer->spheres().size());
 }
 
 void BM_StepOnAThinnedScan(benchmark::State& state) {
-  vmas::Skeletonizer* skeletonizer = settled_scan_skeletonizer();
-  if (!skeletonizer) {
-    state.SkipWithError(("shared data not found: " + data_path("armadillo")).c_str());
-    return;
-  }
-  omp_set_num_threads(static_cast<int>(state.range(0)));
+  vmas::Skeletonizer* skeletonizer =
+      prepared_for(state, settled_scan_skeletonizer(), "armadillo");
+  if (!skeletonizer) return;
   for (auto _ : state) benchmark::DoNotOptimize(skeletonizer->step());
   state.counters["scan_points"] = kScanPoints;
   state.counters["vertices"] = skeletonizer->shape().size();
@@ -106,12 +110,8 @@ void BM_StepOnAThinnedScan(benchmark::State& state) {
 // What a key press costs before the page can show it: remove a sphere, add one at a vertex
 // (a split under the mouse), and the step that re-settles both.
 void BM_EditThenStep(benchmark::State& state) {
-  vmas::Skeletonizer* skeletonizer = settled_skeletonizer();
-  if (!skeletonizer) {
-    state.SkipWithError(("shared data not found: " + data_path()).c_str());
-    return;
-  }
-  omp_set_num_threads(static_cast<int>(state.range(0)));
+  vmas::Skeletonizer* skeletonizer = prepared_for(state, settled_skeletonizer(), "vessel");
+  if (!skeletonizer) return;
   int vertex = 0;
   for (auto _ : state) {
     skeletonizer->remove_sphere(0);
