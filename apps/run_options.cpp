@@ -54,6 +54,10 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
       ("final-rounds", po::value(&values.options.run.final_rounds)
            ->default_value(defaults.run.final_rounds),
        "refits with --final-lambda after the optimisation (0: none)")
+      ("refine-moves", po::value(&values.options.refine.max_moves)
+           ->default_value(defaults.refine.max_moves),
+       "after the run, up to this many tries to move a sphere to where the reconstruction "
+       "error is largest, each kept only if the measured error drops (0: off)")
       ("k", po::value(&values.options.shape.k)->default_value(defaults.shape.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&values.options.prepare.normals.k)

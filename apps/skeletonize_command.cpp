@@ -113,6 +113,11 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                   {"edges", result.medial_mesh.edges.size()},
                   {"medial_faces", result.medial_mesh.faces.size()},
                   {"iterations", result.summary.iterations},
+                  {"refine",
+                   {{"moves_tried", result.refine.tried},
+                    {"moves_kept", result.refine.kept},
+                    {"error_before_percent", percent_of(result.refine.error_before, prepared.diagonal)},
+                    {"error_after_percent", percent_of(result.refine.error_after, prepared.diagonal)}}},
                   {"converged", result.summary.converged},
                   {"stopped_by_max_iterations", result.summary.hit_max_iterations},
                   {"total_error", result.summary.error}};
@@ -134,6 +139,7 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                         {"update", rounded(t.update)},
                         {"projection", rounded(t.projection)},
                         {"split", rounded(t.split)},
+                        {"refine", rounded(t.refine)},
                         {"connectivity", rounded(t.connectivity)},
                         {"write", rounded(write_seconds)},
                         {"total", rounded(read_seconds + t.total + write_seconds)}};
@@ -199,7 +205,8 @@ void print_summary(const json& s, const Settings& settings) {
   const json& t = s["seconds"];
   std::cout << "time (s): total " << text_of(t["total"], "%.2f");
   const char* parts[] = {"read",   "clean",      "prepare", "shape",        "partition",
-                         "update", "projection", "split",   "connectivity", "write"};
+                         "update", "projection", "split",   "refine",       "connectivity",
+                         "write"};
   for (const char* part : parts)
     std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
   std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";

@@ -19,8 +19,6 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
-// Boundary samples around which the medial -> surface maximum is refined, per round.
-constexpr std::size_t kRefinedSamples = 256;
 
 Box sphere_box(const Vec3& center, double radius) {
   const Vec3 extent = Vec3::Constant(radius);
@@ -590,6 +588,12 @@ std::pair<double, double> max_and_mean(const std::vector<double>& values) {
   return {max, values.empty() ? 0.0 : sum / static_cast<double>(values.size())};
 }
 
+// The point with the largest value (the first of equals); the origin when there is none.
+Vec3 worst_point(const std::vector<Vec3>& points, const std::vector<double>& values) {
+  if (values.empty()) return Vec3::Zero();
+  return points[std::max_element(values.begin(), values.end()) - values.begin()];
+}
+
 }  // namespace
 
 void EvalOptions::validate() const {
@@ -598,6 +602,9 @@ void EvalOptions::validate() const {
   }
   if (!(boundary_spacing >= 1e-4 && boundary_spacing <= 0.1)) {
     throw InvalidOption("boundary_spacing must be in [1e-4, 0.1] (fraction of the diagonal)");
+  }
+  if (refined_samples < 1 || refined_samples > 100000) {
+    throw InvalidOption("refined_samples must be in [1, 100000]");
   }
   if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
     throw InvalidOption("inside_tolerance must be in [0, 0.01] (fraction of the diagonal)");
@@ -652,23 +659,62 @@ std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, dou
   return envelope.visible(envelope.sample_boundaries(spacing), tolerance).points;
 }
 
-EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
-                    const EvalOptions& options) {
+std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points) {
+  const Envelope envelope(medial);
+  std::vector<double> distances(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) distances[i] = envelope.boundary_distance(points[i]);
+  return distances;
+}
+
+struct Evaluator::Impl {
+  Impl(const SurfaceInput& shape, const EvalOptions& options)
+      : options(options), shape(shape), distance(shape) {}
+  EvalOptions options;
+  const SurfaceInput& shape;
+  double diagonal = 0.0;
+  std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
+  ShapeDistance distance;     // medial -> surface
+};
+
+namespace {
+
+// Validates before the Impl builds anything from the shape.
+const SurfaceInput& checked(const SurfaceInput& shape, const EvalOptions& options) {
   options.validate();
   check_shape(shape);
-  const Envelope envelope(medial);
+  return shape;
+}
 
-  EvalResult result;
+}  // namespace
+
+Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
+    : impl_(std::make_unique<Impl>(checked(shape, options), options)) {
   Box bounds;
   for (const Vec3& p : shape.points) bounds.extend(p);
-  result.diagonal = bounds.diagonal().norm();
-  if (!std::isfinite(result.diagonal) || !(result.diagonal > 0.0)) {
+  impl_->diagonal = bounds.diagonal().norm();
+  if (!std::isfinite(impl_->diagonal) || !(impl_->diagonal > 0.0)) {
     throw InvalidInput("shape has a non-finite coordinate or no extent");
   }
-
   const int random_count =
       options.surface_samples < 0 ? static_cast<int>(shape.points.size()) : options.surface_samples;
-  const std::vector<Vec3> samples = surface_samples(shape, random_count, options.seed);
+  impl_->samples = surface_samples(shape, random_count, options.seed);
+}
+
+Evaluator::~Evaluator() = default;
+
+EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
+                    const EvalOptions& options) {
+  return Evaluator(shape, options)(medial);
+}
+
+EvalResult Evaluator::operator()(const MedialMesh& medial) const {
+  const EvalOptions& options = impl_->options;
+  const SurfaceInput& shape = impl_->shape;
+  const std::vector<Vec3>& samples = impl_->samples;
+  const ShapeDistance& distance = impl_->distance;
+  const Envelope envelope(medial);
+  EvalResult result;
+  result.diagonal = impl_->diagonal;
   std::vector<double> to_medial(samples.size());
   const auto count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(dynamic, 1024)
@@ -681,15 +727,16 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
   // with the largest distances that could still hold it.
   const double tolerance = options.inside_tolerance * result.diagonal;
   double spacing = options.boundary_spacing * result.diagonal;
-  const ShapeDistance distance(shape);
   BoundarySamples boundary = envelope.visible(envelope.sample_boundaries(spacing), tolerance);
   std::vector<double> to_surface = distance(boundary.points);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
+  result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
   result.boundary_sample_count = boundary.points.size();
   for (int round = 0; round < 2; ++round) {
     std::vector<std::size_t> order(boundary.points.size());
     std::iota(order.begin(), order.end(), 0);
-    const std::size_t refined = std::min(order.size(), kRefinedSamples);
+    const std::size_t refined =
+        std::min(order.size(), static_cast<std::size_t>(options.refined_samples));
     std::partial_sort(
         order.begin(), order.begin() + refined, order.end(), [&](std::size_t i, std::size_t j) {
           return to_surface[i] > to_surface[j] || (to_surface[i] == to_surface[j] && i < j);
@@ -707,11 +754,15 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
     }
     boundary = envelope.visible(finer, tolerance);
     to_surface = distance(boundary.points);
-    for (double d : to_surface)
-      result.medial_to_surface_max = std::max(result.medial_to_surface_max, d);
+    for (std::size_t i = 0; i < to_surface.size(); ++i) {
+      if (to_surface[i] <= result.medial_to_surface_max) continue;
+      result.medial_to_surface_max = to_surface[i];
+      result.medial_to_surface_worst = boundary.points[i];
+    }
   }
 
   std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
+  result.surface_to_medial_worst = worst_point(samples, to_medial);
   result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
   result.surface_sample_count = samples.size();
   result.vertex_error.assign(to_medial.begin(), to_medial.begin() + shape.points.size());

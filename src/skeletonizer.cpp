@@ -292,18 +292,22 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   // (paper Fig. 5: a small λ fits the features) and the projection keeps them medial. Later
   // rounds re-partition first, so that the vertices follow the moved spheres.
   for (int round = 0; round < options_.final_rounds; ++round) {
-    if (round > 0) {
-      repartition();
-      // As in step(), but until every cluster is big enough (a few tries): no later step moves
-      // a sphere left with a handful of vertices, and it would end up unconnected.
-      for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
-        repartition();
-    }
-    fit_and_project(options_.final_lambda);
-    refresh_errors(true);
+    final_refit(round);
     if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
   }
   return finish();
+}
+
+void Skeletonizer::final_refit(int round) {
+  if (round > 0) {
+    repartition();
+    // As in step(), but until every cluster is big enough (a few tries): no later step moves
+    // a sphere left with a handful of vertices, and it would end up unconnected.
+    for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
+      repartition();
+  }
+  fit_and_project(options_.final_lambda);
+  refresh_errors(true);
 }
 
 void Skeletonizer::check_id(int id) const {
@@ -315,7 +319,13 @@ void Skeletonizer::check_id(int id) const {
 int Skeletonizer::add_sphere_at(int vertex) {
   if (vertex < 0 || vertex >= shape_.size())
     throw InvalidOption("no vertex with index " + std::to_string(vertex));
-  spheres_.push_back(projector_.ball_at(vertex));
+  return add_sphere(projector_.ball_at(vertex));
+}
+
+int Skeletonizer::add_sphere(const Sphere& sphere) {
+  if (!sphere.center.allFinite() || !(sphere.radius >= 0.0 && std::isfinite(sphere.radius)))
+    throw InvalidOption("a sphere needs a finite centre and a finite, non-negative radius");
+  spheres_.push_back(sphere);
   frozen_.push_back(false);
   repartition();
   return static_cast<int>(spheres_.size()) - 1;
@@ -355,6 +365,15 @@ void Skeletonizer::set_lambda(double lambda) {
   changed.validate();
   options_ = changed;
   energies_current_ = false;  // E_v depends on λ
+}
+
+void Skeletonizer::restore(const SkeletonizerState& state) {
+  spheres_ = state.spheres;
+  frozen_ = state.frozen;
+  labels_ = state.labels;
+  members_.assign(spheres_.size(), {});
+  for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
+  refresh_errors(true);
 }
 
 MedialMesh Skeletonizer::medial_mesh() const {

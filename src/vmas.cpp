@@ -108,6 +108,7 @@ void Options::validate() const {
   run_options(*this).validate();
   shape.validate();
   prepare.validate();
+  refine.validate();
 }
 
 namespace {
@@ -145,6 +146,7 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   adapt_shrinking_ball(result.prepare, prepared.run.shrinking_ball);
   const auto shape_start = Clock::now();
   prepared.shape = build_shape(surface, options.shape);
+  prepared.surface = std::move(surface);
   result.input_components = component_count(prepared.shape);
   result.seconds.shape = seconds_since(shape_start);
   return prepared;
@@ -169,6 +171,8 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   Skeletonizer skeletonizer(std::move(prepared.shape), run);
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
+  result.refine = refine_worst_served(skeletonizer, prepared.surface, options.refine);
+  result.seconds.refine = result.refine.seconds;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
   if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)
     throw InvalidInput("cannot place " + std::to_string(run.target_spheres) + " spheres on " +

@@ -11,6 +11,7 @@
 // bounding-box diagonal as the paper does.
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "vmas/types.hpp"
@@ -24,6 +25,7 @@ struct EvalOptions {
   // Distance between neighbouring samples on the primitives' boundaries, fraction of the
   // diagonal. The mean uses these samples; the maximum is refined 16x finer around the farthest.
   double boundary_spacing = 0.004;
+  int refined_samples = 256;  // boundary samples around which the maximum is refined, per round
   // A boundary sample is hidden by another primitive only when deeper inside it than this,
   // fraction of the diagonal (touching primitives share boundary points).
   double inside_tolerance = 1e-6;
@@ -39,6 +41,8 @@ struct EvalResult {
   double medial_to_surface_max = 0.0;
   double medial_to_surface_mean = 0.0;
   double hausdorff = 0.0;                 // max of the two one-sided maxima
+  Vec3 surface_to_medial_worst = Vec3::Zero();  // where each one-sided maximum was found:
+  Vec3 medial_to_surface_worst = Vec3::Zero();  //   a surface sample, a boundary sample
   std::size_t surface_sample_count = 0;   // input points + random surface samples
   std::size_t boundary_sample_count = 0;  // visible uniform samples on the primitives' boundaries
   // Surface -> medial distance of every input point (for colour maps).
@@ -52,6 +56,23 @@ struct EvalResult {
   double percent(double length) const { return 100.0 * length / diagonal; }
 };
 
+// evaluate() for many medial meshes of one shape: the shape's samples and its distance structure
+// are built once. Keeps a reference to `shape`. Results are those of evaluate().
+class Evaluator {
+ public:
+  // Throws as evaluate() does for the shape and the options.
+  Evaluator(const SurfaceInput& shape, const EvalOptions& options = {});
+  ~Evaluator();
+  Evaluator(const Evaluator&) = delete;
+  Evaluator& operator=(const Evaluator&) = delete;
+  // Throws as evaluate() does for the medial mesh.
+  EvalResult operator()(const MedialMesh& medial) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // Throws InvalidInput when the shape has no point or a face index out of range, or when the
 // medial mesh is empty, has an index out of range or repeated within an element, or a radius
 // that is negative or not finite.
@@ -62,6 +83,10 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
 // and slab tangent triangles, `spacing` apart, that are not deeper than `tolerance` inside any
 // other primitive. Validates `medial` like evaluate().
 std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance);
+
+// Surface -> medial distance of each point: the smallest unsigned distance to the boundary of
+// any primitive, as evaluate() measures it. Validates `medial` like evaluate().
+std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points);
 
 // Exact signed distance to the round cone spanned by two spheres (negative inside). When one
 // sphere contains the other the cone is the bigger sphere.

@@ -31,6 +31,9 @@ class MedialProjector {
   // The medial ball touching `vertex` along its inward normal: how new spheres are seeded.
   Sphere ball_at(int vertex) const { return shrink(vertex, -shape_.normals[vertex]); }
 
+  // The input point closest to `p`.
+  int nearest_vertex(const Vec3& p) const { return tree_.nearest(p); }
+
   // Moves a fitted sphere centre onto the medial axis: the shrinking ball from the input point
   // closest to `center`, in the direction of `center` if that points inside, else along −normal.
   Sphere project(const Vec3& center) const;

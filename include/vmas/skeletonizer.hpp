@@ -66,6 +66,13 @@ struct RunSummary {
   bool cancelled = false;           // the progress callback returned false
 };
 
+// Everything a run's result depends on: restore() brings a skeletonizer back to it exactly.
+struct SkeletonizerState {
+  std::vector<Sphere> spheres;
+  std::vector<bool> frozen;
+  std::vector<int> labels;
+};
+
 class Skeletonizer {
  public:
   // Starts from one sphere fitted to the whole shape (paper §3.2) and projected on the medial axis.
@@ -77,6 +84,9 @@ class Skeletonizer {
   double step();
   // One split round (§3.4); returns the number of spheres added.
   int split();
+  // One of the refits with final_lambda that end run(); round 0 keeps the partition, later
+  // rounds re-partition first.
+  void final_refit(int round);
   // Steps and splits until the target is met and the error has settled, then the final refits.
   // A cancelled run leaves the state as it was after the last reported step.
   RunSummary run(const ProgressCallback& progress = {});
@@ -84,6 +94,7 @@ class Skeletonizer {
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
   // whose cluster stays below min_cluster_size is moved by the next step().
   int add_sphere_at(int vertex);  // the shrinking ball at `vertex`; returns its id
+  int add_sphere(const Sphere& sphere);  // as given (e.g. a projected one); returns its id
   void remove_sphere(int id);
   void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
   // A new count target (replaces an error threshold) or λ for the steps to come; InvalidOption
@@ -91,6 +102,9 @@ class Skeletonizer {
   void set_target_spheres(int count);
   void set_lambda(double lambda);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
+
+  SkeletonizerState state() const { return {spheres_, frozen_, labels_}; }
+  void restore(const SkeletonizerState& state);  // a state of this skeletonizer's shape
 
   MedialMesh medial_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }

@@ -17,6 +17,7 @@
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"
 #include "vmas/shape.hpp"
+#include "vmas/refine.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/types.hpp"
 
@@ -39,6 +40,7 @@ struct Options {
   ShapeOptions shape;       // k of a cloud's neighbour graph
   SkeletonizerOptions run;  // λ, final refits, convergence, shrinking balls, ...; its
                             // target_spheres and error_threshold are ignored (set from above)
+  RefineOptions refine;     // worst-case refinement after the run (max_moves 0: off)
   // Throws InvalidOption naming the option; option() gives its CLI name.
   void validate() const;
 };
@@ -53,7 +55,7 @@ struct Warning {
 
 struct Timings {  // seconds
   double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
-         split = 0.0, connectivity = 0.0, total = 0.0;
+         split = 0.0, refine = 0.0, connectivity = 0.0, total = 0.0;
 };
 
 struct Result {
@@ -61,6 +63,7 @@ struct Result {
   std::vector<int> labels;  // one per input point: the sphere whose cluster holds it; -1 for a
                             // point dropped (NaN, duplicate, outlier, vertex of no face)
   RunSummary summary;
+  RefineReport refine;       // what the worst-case refinement tried and kept
   CleanReport clean;         // what cleaning removed (clean.kept: input index of each point kept)
   PrepareReport prepare;     // outliers, noise, smoothing, normals, the working frame
   MeshDefects mesh_defects;  // meshes: boundary, non-manifold and misoriented edges
@@ -83,6 +86,7 @@ struct Cancelled : Error {
 // the seconds of those stages. Throws as skeletonize() does.
 struct PreparedShape {
   Shape shape;
+  SurfaceInput surface;  // what `shape` was built from (same frame): what the result is measured on
   SkeletonizerOptions run;
   Result result;
 };

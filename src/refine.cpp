@@ -1,0 +1,185 @@
+#include "vmas/refine.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <limits>
+#include <string>
+#include <utility>
+#include <cstdio>
+#include <cstdlib>
+
+#include "vmas/connectivity.hpp"
+#include "vmas/error.hpp"
+#include "vmas/eval.hpp"
+#include "vmas/partition.hpp"
+
+namespace vmas {
+
+void RefineOptions::validate() const {
+  if (max_moves < 0 || max_moves > 1000)
+    throw InvalidOption("refine-moves",
+                        "must be between 0 and 1000 (got " + std::to_string(max_moves) + ")");
+}
+
+namespace {
+
+const std::size_t kRemovalCandidates = getenv("VMAS_CANDS") ? atoi(getenv("VMAS_CANDS")) : 10;
+const int kSettleSteps = getenv("VMAS_SETTLE") ? atoi(getenv("VMAS_SETTLE")) : 3;
+const double kRemovalMargin = getenv("VMAS_MARGIN") ? atof(getenv("VMAS_MARGIN")) : 0.75;
+
+// Unfrozen spheres other than `keep`, cheapest to remove first: the energy their vertices would
+// gain by joining the best neighbouring sphere instead.
+std::vector<int> removal_order(const Skeletonizer& skeletonizer, int keep) {
+  const Shape& shape = skeletonizer.shape();
+  const std::vector<Sphere>& spheres = skeletonizer.spheres();
+  const std::vector<int>& labels = skeletonizer.labels();
+  const double lambda = skeletonizer.options().lambda;
+  const int count = static_cast<int>(spheres.size());
+  const auto adjacent = cluster_adjacency(shape, labels, count);
+  std::vector<double> cost(count, 0.0);
+  for (int v = 0; v < shape.size(); ++v) {
+    const int own = labels[v];
+    double best = std::numeric_limits<double>::infinity();
+    for (int other : adjacent[own]) best = std::min(best, vertex_energy(shape, v, spheres[other], lambda));
+    cost[own] += best - vertex_energy(shape, v, spheres[own], lambda);
+  }
+  std::vector<int> order;
+  for (int c = 0; c < count; ++c)
+    if (c != keep && !skeletonizer.frozen(c)) order.push_back(c);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+  return order;
+}
+
+// The interpolated sphere of the medial mesh (a sphere, or one along an edge or over a face) whose
+// boundary passes closest to `p`, i.e. the one that puts a boundary point of the reconstruction
+// there, and the spheres of its primitive (-1 for none).
+struct Generator {
+  Sphere sphere;
+  std::array<int, 3> spheres{-1, -1, -1};
+};
+
+Generator generating_sphere(const MedialMesh& medial, const Vec3& p) {
+  Generator best;
+  double best_gap = std::numeric_limits<double>::infinity();
+  const auto consider = [&](const Vec3& center, double radius, std::array<int, 3> spheres) {
+    const double gap = (p - center).norm() - radius;
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = {{center, radius}, spheres};
+    }
+  };
+  for (int i = 0; i < static_cast<int>(medial.spheres.size()); ++i)
+    consider(medial.spheres[i].center, medial.spheres[i].radius, {i, -1, -1});
+  constexpr int kSteps = 32;
+  for (const auto& e : medial.edges) {
+    const Sphere &a = medial.spheres[e[0]], &b = medial.spheres[e[1]];
+    for (int i = 1; i < kSteps; ++i) {
+      const double t = static_cast<double>(i) / kSteps;
+      consider((1 - t) * a.center + t * b.center, (1 - t) * a.radius + t * b.radius,
+               {e[0], e[1], -1});
+    }
+  }
+  for (const auto& f : medial.faces) {
+    const Sphere &a = medial.spheres[f[0]], &b = medial.spheres[f[1]], &c = medial.spheres[f[2]];
+    for (int i = 1; i < kSteps; ++i)
+      for (int j = 1; i + j < kSteps; ++j) {
+        const double u = static_cast<double>(i) / kSteps, v = static_cast<double>(j) / kSteps;
+        consider((1 - u - v) * a.center + u * b.center + v * c.center,
+                 (1 - u - v) * a.radius + u * b.radius + v * c.radius, f);
+      }
+  }
+  return best;
+}
+
+
+// Adds a sphere where the reconstruction is worst and removes the cheapest sphere whose removal
+// leaves its vertices covered (energy is an average: the sphere of a thin part can be cheap while
+// its removal opens a hole). The new sphere is frozen and comes last. Returns the removed
+// sphere's id; -1 (state unchanged) when no sphere can go.
+int add_and_remove(Skeletonizer& skeletonizer, const EvalResult& now) {
+  const bool uncovered = now.surface_to_medial_max >= now.medial_to_surface_max;
+  const MedialProjector& projector = skeletonizer.projector();
+  const SkeletonizerState before = skeletonizer.state();
+  // A surface point far from the reconstruction gets the medial ball touching it; a bulge of
+  // the reconstruction gets the medial sphere under the interpolated sphere that makes it.
+  Generator bulge;
+  if (!uncovered) bulge = generating_sphere(skeletonizer.medial_mesh(), now.medial_to_surface_worst);
+  const int added = uncovered
+                        ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
+                        : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
+  skeletonizer.freeze(added);
+  const SkeletonizerState with_added = skeletonizer.state();
+  // A bulge: its own spheres may go first (the new one takes their place).
+  std::vector<int> order;
+  for (int own : bulge.spheres)
+    if (own >= 0 && !skeletonizer.frozen(own)) order.push_back(own);
+  for (int c : removal_order(skeletonizer, added))
+    if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
+  const Shape& shape = skeletonizer.shape();
+  for (std::size_t k = 0; k < order.size() && k < kRemovalCandidates; ++k) {
+    const int removed = order[k];
+    std::vector<Vec3> members;
+    for (int v = 0; v < shape.size(); ++v)
+      if (skeletonizer.labels()[v] == removed) members.push_back(shape.points[v]);
+    skeletonizer.remove_sphere(removed);
+    const std::vector<double> left = envelope_distances(skeletonizer.medial_mesh(), members);
+    if (left.empty() || *std::max_element(left.begin(), left.end()) < kRemovalMargin * now.hausdorff)
+      return removed;
+    skeletonizer.restore(with_added);
+  }
+  skeletonizer.restore(before);
+  return -1;
+}
+
+}  // namespace
+
+RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput& surface,
+                                 const RefineOptions& options) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  RefineReport report;
+  if (options.max_moves == 0) return report;
+  EvalOptions coarse;
+  coarse.boundary_spacing = getenv("VMAS_SPACING") ? atof(getenv("VMAS_SPACING")) : 0.016;
+  coarse.refined_samples = getenv("VMAS_REFINED") ? atoi(getenv("VMAS_REFINED")) : 32;
+  const Evaluator evaluator(surface, coarse);
+  const auto measure = [&] { return evaluator(skeletonizer.medial_mesh()); };
+  EvalResult best = measure();
+  report.error_before = best.hausdorff;
+  SkeletonizerState best_state = skeletonizer.state();
+  // Spheres placed by kept moves stay frozen until the end, so that no later move undoes them.
+  std::vector<bool> placed(skeletonizer.spheres().size(), false);
+  while (report.tried < options.max_moves) {
+    const int removed = add_and_remove(skeletonizer, best);
+    if (removed < 0) break;
+    ++report.tried;
+    // First the move alone (the rest stays as it is); if that does not help, the neighbours
+    // adapt to it: a few steps and the final refits, the new sphere held in place.
+    EvalResult trial = measure();
+    if (getenv("VMAS_DEBUG")) fprintf(stderr, "move %d: %.3f (s2m %.3f m2s %.3f) -> %.3f (s2m %.3f m2s %.3f)\n", report.tried, best.hausdorff/best.diagonal*100, best.surface_to_medial_max/best.diagonal*100, best.medial_to_surface_max/best.diagonal*100, trial.hausdorff/trial.diagonal*100, trial.surface_to_medial_max/trial.diagonal*100, trial.medial_to_surface_max/trial.diagonal*100);
+    if (!(trial.hausdorff < best.hausdorff)) {
+      for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
+      for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
+        skeletonizer.final_refit(round);
+      trial = measure();
+      if (getenv("VMAS_DEBUG")) fprintf(stderr, "   settled -> %.3f (s2m %.3f m2s %.3f)\n", trial.hausdorff/trial.diagonal*100, trial.surface_to_medial_max/trial.diagonal*100, trial.medial_to_surface_max/trial.diagonal*100);
+    }
+    if (!(trial.hausdorff < best.hausdorff)) {
+      skeletonizer.restore(best_state);
+      break;
+    }
+    placed.erase(placed.begin() + removed);
+    placed.push_back(true);
+    best = std::move(trial);
+    best_state = skeletonizer.state();
+    ++report.kept;
+  }
+  for (int c = 0; c < static_cast<int>(placed.size()); ++c)
+    if (placed[c]) skeletonizer.freeze(c, false);
+  report.error_after = best.hausdorff;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace vmas
