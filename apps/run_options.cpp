@@ -56,8 +56,11 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "refits with --final-lambda after the optimisation (0: none)")
       ("refine-moves", po::value(&values.options.refine.max_moves)
            ->default_value(defaults.refine.max_moves),
-       "after the run, up to this many tries to move a sphere to where the reconstruction "
-       "error is largest, each kept only if the measured error drops (0: off)")
+       "after the run, up to this many moves of a sphere to where the reconstruction error "
+       "(two-sided Hausdorff) is largest, each kept only if the measured error drops (0: off)")
+      ("refine-min-gain", po::value(&values.options.refine.min_gain)
+           ->default_value(defaults.refine.min_gain, "0.01"),
+       "stop refining after a move that lowered the error by less than this fraction")
       ("k", po::value(&values.options.shape.k)->default_value(defaults.shape.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&values.options.prepare.normals.k)

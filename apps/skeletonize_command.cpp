@@ -231,6 +231,10 @@ ProgressCallback terminal_progress(const std::string& input, bool show) {
       case Progress::Phase::FinalRefit:
         std::fprintf(stderr, "\r%s: final refit %d/%d%30s", input.c_str(), p.round, p.rounds, "");
         break;
+      case Progress::Phase::Refining:
+        std::fprintf(stderr, "\r%s: refining, move %d/%d, epsilon %.3f %%%20s", input.c_str(),
+                     p.round, p.rounds, 100.0 * p.error, "");
+        break;
     }
     return true;
   };

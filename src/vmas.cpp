@@ -171,7 +171,8 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   Skeletonizer skeletonizer(std::move(prepared.shape), run);
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
-  result.refine = refine_worst_served(skeletonizer, prepared.surface, options.refine);
+  result.refine = refine_worst_served(skeletonizer, prepared.surface, options.refine, progress);
+  if (result.refine.cancelled) throw Cancelled();
   result.seconds.refine = result.refine.seconds;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
   if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)

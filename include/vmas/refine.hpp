@@ -11,18 +11,26 @@
 namespace vmas {
 
 struct RefineOptions {
-  int max_moves = 6;  // relocations tried (0: the stage is off)
+  int max_moves = 12;     // moves tried at most (0: the stage is off)
+  double min_gain = 0.01;  // stop after a move that lowered the error by less than this fraction
   void validate() const;  // throws InvalidOption
 };
 
 struct RefineReport {
   int tried = 0, kept = 0;
-  double error_before = 0.0, error_after = 0.0;  // two-sided Hausdorff, absolute
+  double error_before = 0.0, error_after = 0.0;  // measured two-sided Hausdorff, absolute
   double seconds = 0.0;
+  bool cancelled = false;  // the progress callback returned false
 };
 
-// `surface` is the input the skeletonizer's shape was built from (same frame).
+// Moves spheres of a finished run (Skeletonizer::run) until a move does not lower the measured
+// error, a move gains little, or max_moves were tried. `surface` is what the skeletonizer's shape
+// was built from, in the same frame: the error is measured against it. `progress` is called
+// before every move (Phase::Refining; error = the measured error / diagonal); returning false
+// stops with the best state so far. Deterministic for any thread count; frozen spheres are
+// neither moved nor removed, and the sphere count stays the same.
 RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput& surface,
-                                 const RefineOptions& options);
+                                 const RefineOptions& options,
+                                 const ProgressCallback& progress = {});
 
 }  // namespace vmas

@@ -44,8 +44,10 @@ struct StageTimes {  // seconds spent in each stage so far
 
 struct Progress {
   // Preparing: vmas::skeletonize before the run (cleaning, denoising, normals, the shape);
-  // Optimising: after every partition + update step; FinalRefit: after every final refit.
-  enum class Phase { Preparing, Optimising, FinalRefit };
+  // Optimising: after every partition + update step; FinalRefit: after every final refit;
+  // Refining: before every move of the worst-case refinement (vmas/refine.hpp), whose error is
+  // the measured two-sided error relative to the diagonal.
+  enum class Phase { Preparing, Optimising, FinalRefit, Refining };
   Phase phase = Phase::Optimising;
   int iteration = 0;          // steps so far
   int spheres = 0;            // spheres now
