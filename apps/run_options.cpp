@@ -60,7 +60,7 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "(two-sided Hausdorff) is largest, each kept only if the measured error drops (0: off)")
       ("refine-min-gain", po::value(&values.options.refine.min_gain)
            ->default_value(defaults.refine.min_gain, "0.01"),
-       "stop refining after a move that lowered the error by less than this fraction")
+       "stop refining after two moves in a row that lowered the error by less than this fraction")
       ("k", po::value(&values.options.shape.k)->default_value(defaults.shape.k),
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&values.options.prepare.normals.k)
@@ -78,6 +78,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
       ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
        "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
+      ("no-coarse-start", "with --spheres: grow the spheres on the whole shape from the start "
+       "instead of on a coarsened copy (slower)")
       ("max-iterations", po::value(&values.options.run.max_iterations)
            ->default_value(defaults.run.max_iterations),
        "stop after this many partition/update steps")
@@ -112,6 +114,7 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
                         "must be at least 1 (got " + std::to_string(options.spheres) + ")");
   if (vm.count("error") && !(options.error > 0.0)) throw InvalidOption("error", "must be positive");
   options.run.project = !vm.count("no-projection");
+  options.run.coarse_start = !vm.count("no-coarse-start");
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);
   options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
   options.prepare.orient_normals = vm.count("orient-normals") > 0;

@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
+// EvalOptions::maxima_only: every this many samples get an exact distance first.
+constexpr std::size_t kFloorStride = 16;
 
 Box sphere_box(const Vec3& center, double radius) {
   const Vec3 extent = Vec3::Constant(radius);
@@ -144,11 +146,17 @@ class Bvh {
   }
 
   // Smallest distance(item) over all items; distance(item) must be at least the distance from p
-  // to the item's box, which is what prunes the search.
+  // to the item's box, which is what prunes the search. Returns early, with some distance below
+  // `stop_below`, once one is found (for callers that only need the values above it).
+  // `hint`: an item likely to be near, tried first (a tight bound prunes sooner); set to the
+  // nearest item found.
   template <class Distance>
-  double nearest(const Vec3& p, Distance&& distance) const {
+  double nearest(const Vec3& p, Distance&& distance, double stop_below = -kInfinity,
+                 int* hint = nullptr) const {
     double best = kInfinity;
     if (nodes_.empty()) return best;
+    if (hint && *hint >= 0) best = distance(*hint);
+    if (best < stop_below) return best;
     int stack[kMaxDepth];
     int top = 0;
     stack[top++] = 0;
@@ -157,8 +165,12 @@ class Bvh {
       if (node.box.squaredExteriorDistance(p) >= best * best) continue;
       if (node.count > 0) {
         for (int i = node.first; i < node.first + node.count; ++i) {
-          best = std::min(best, distance(items_[i]));
+          const double d = distance(items_[i]);
+          if (d >= best) continue;
+          best = d;
+          if (hint) *hint = items_[i];
         }
+        if (best < stop_below) return best;
         continue;
       }
       const int left = node.first, right = node.first + 1;
@@ -313,8 +325,9 @@ class Envelope {
   Envelope(const Envelope&) = delete;  // the trees refer to the box vectors
   Envelope& operator=(const Envelope&) = delete;
 
-  // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle.
-  double boundary_distance(const Vec3& p) const {
+  // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle
+  // (or some distance below `stop_below`: see Bvh::nearest).
+  double boundary_distance(const Vec3& p, double stop_below = -kInfinity) const {
     const int spheres = static_cast<int>(spheres_.size());
     const int cones = static_cast<int>(cones_.size());
     return piece_tree_->nearest(p, [&](int id) {
@@ -322,7 +335,7 @@ class Envelope {
       if (id < spheres + cones) return std::abs(cones_[id - spheres].signed_distance(p));
       const auto& t = triangles_[id - spheres - cones];
       return point_triangle_distance(p, t[0], t[1], t[2]);
-    });
+    }, stop_below);
   }
 
   // Samples `spacing` apart on every boundary piece (sphere, cone lateral surface, tangent
@@ -343,12 +356,27 @@ class Envelope {
   BoundarySamples visible(const BoundarySamples& samples, double tolerance) const {
     const auto count = static_cast<std::ptrdiff_t>(samples.points.size());
     std::vector<char> keep(samples.points.size());
-#pragma omp parallel for schedule(dynamic, 4096)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      const Vec3& p = samples.points[i];
-      const int owner = owner_solid(samples.pieces[i]);
-      keep[i] = !solid_tree_->any_containing(
-          p, [&](int id) { return id != owner && solid_signed_distance(id, p) < -tolerance; });
+#pragma omp parallel
+    {
+      // Neighbouring samples are mostly hidden by the same solid: it is tried first.
+      int last_hider = -1;
+#pragma omp for schedule(dynamic, 4096)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const Vec3& p = samples.points[i];
+        const int owner = owner_solid(samples.pieces[i]);
+        const auto hides = [&](int id) {
+          return id != owner && solid_signed_distance(id, p) < -tolerance;
+        };
+        if (last_hider >= 0 && hides(last_hider)) {
+          keep[i] = false;
+          continue;
+        }
+        keep[i] = !solid_tree_->any_containing(p, [&](int id) {
+          if (!hides(id)) return false;
+          last_hider = id;
+          return true;
+        });
+      }
     }
     BoundarySamples result;
     for (std::size_t i = 0; i < samples.points.size(); ++i) {
@@ -551,16 +579,24 @@ class ShapeDistance {
     triangles_.emplace(boxes_);
   }
 
-  std::vector<double> operator()(const std::vector<Vec3>& queries) const {
+  // Exact distances, or for a query farther than `stop_below` from the input some distance below
+  // it (see Bvh::nearest).
+  std::vector<double> operator()(const std::vector<Vec3>& queries,
+                                 double stop_below = -kInfinity) const {
     std::vector<double> distances(queries.size());
     const auto count = static_cast<std::ptrdiff_t>(queries.size());
-#pragma omp parallel for schedule(dynamic, 4096)
-    for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] = distance(queries[i]);
+#pragma omp parallel
+    {
+      int near_face = -1;  // neighbouring queries are near the same face: it is tried first
+#pragma omp for schedule(dynamic, 4096)
+      for (std::ptrdiff_t i = 0; i < count; ++i)
+        distances[i] = distance(queries[i], stop_below, near_face);
+    }
     return distances;
   }
 
  private:
-  double distance(const Vec3& q) const {
+  double distance(const Vec3& q, double stop_below, int& near_face) const {
     if (points_) {
       double squared = 0.0;
       points_->nearest(q, &squared);
@@ -570,7 +606,7 @@ class ShapeDistance {
       const auto& f = shape_.faces[face];
       return point_triangle_distance(q, shape_.points[f[0]], shape_.points[f[1]],
                                      shape_.points[f[2]]);
-    });
+    }, stop_below, &near_face);
   }
 
   const SurfaceInput& shape_;
@@ -715,12 +751,25 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   const Envelope envelope(medial);
   EvalResult result;
   result.diagonal = impl_->diagonal;
-  std::vector<double> to_medial(samples.size());
-  const auto count = static_cast<std::ptrdiff_t>(samples.size());
+  // For the maxima alone, the exact distances of a few evenly spread points bound them from
+  // below, and every other distance may stop once it is below that bound.
+  const auto floor_of = [&](const std::vector<Vec3>& points, const auto& exact_distances) {
+    if (!options.maxima_only) return -kInfinity;
+    std::vector<Vec3> spread;
+    for (std::size_t i = 0; i < points.size(); i += kFloorStride) spread.push_back(points[i]);
+    const std::vector<double> exact = exact_distances(spread);
+    return exact.empty() ? -kInfinity : *std::max_element(exact.begin(), exact.end());
+  };
+  const auto to_boundaries = [&](const std::vector<Vec3>& points, double stop_below) {
+    std::vector<double> distances(points.size());
+    const auto count = static_cast<std::ptrdiff_t>(points.size());
 #pragma omp parallel for schedule(dynamic, 1024)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
-    to_medial[i] = envelope.boundary_distance(samples[i]);
-  }
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+      distances[i] = envelope.boundary_distance(points[i], stop_below);
+    return distances;
+  };
+  const std::vector<double> to_medial = to_boundaries(
+      samples, floor_of(samples, [&](const auto& points) { return to_boundaries(points, -kInfinity); }));
 
   // Medial -> surface: uniform samples give the mean. The distance is 1-Lipschitz, so the maximum
   // can only exceed a sample's value by the spacing: refine (twice, 4x finer) around the samples
@@ -728,7 +777,11 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   const double tolerance = options.inside_tolerance * result.diagonal;
   double spacing = options.boundary_spacing * result.diagonal;
   BoundarySamples boundary = envelope.visible(envelope.sample_boundaries(spacing), tolerance);
-  std::vector<double> to_surface = distance(boundary.points);
+  // Distances below the bound minus a spacing cannot lead to the maximum: exact ones are needed
+  // from there up only.
+  const double surface_floor =
+      floor_of(boundary.points, [&](const auto& points) { return distance(points); }) - spacing;
+  std::vector<double> to_surface = distance(boundary.points, surface_floor);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
   result.boundary_sample_count = boundary.points.size();
@@ -753,7 +806,9 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
       result.boundary_error = std::move(to_surface);
     }
     boundary = envelope.visible(finer, tolerance);
-    to_surface = distance(boundary.points);
+    to_surface = distance(boundary.points, options.maxima_only
+                                               ? result.medial_to_surface_max - spacing
+                                               : -kInfinity);
     for (std::size_t i = 0; i < to_surface.size(); ++i) {
       if (to_surface[i] <= result.medial_to_surface_max) continue;
       result.medial_to_surface_max = to_surface[i];
@@ -765,6 +820,12 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   result.surface_to_medial_worst = worst_point(samples, to_medial);
   result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
   result.surface_sample_count = samples.size();
+  if (options.maxima_only) {
+    result.surface_to_medial_mean = result.medial_to_surface_mean = 0.0;
+    result.boundary_samples.clear();
+    result.boundary_error.clear();
+    return result;
+  }
   result.vertex_error.assign(to_medial.begin(), to_medial.begin() + shape.points.size());
   return result;
 }

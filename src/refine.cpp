@@ -158,6 +158,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   coarse.surface_samples = 0;
   coarse.boundary_spacing = 0.016;
   coarse.refined_samples = 32;
+  coarse.maxima_only = true;
   const Evaluator evaluator(surface, coarse);
   const auto measure = [&] { return evaluator(skeletonizer.medial_mesh()); };
   EvalResult best = measure();
@@ -165,6 +166,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   SkeletonizerState best_state = skeletonizer.state();
   // Spheres placed by kept moves stay frozen until the end, so that no later move undoes them.
   std::vector<bool> placed(skeletonizer.spheres().size(), false);
+  int small_gains = 0;  // kept moves in a row that gained less than min_gain
   while (report.tried < options.max_moves) {
     if (progress && !progress(Progress{Progress::Phase::Refining, report.tried,
                                        static_cast<int>(skeletonizer.spheres().size()),
@@ -202,7 +204,8 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
     best = std::move(trial);
     best_state = skeletonizer.state();
     ++report.kept;
-    if (small_gain) break;
+    small_gains = small_gain ? small_gains + 1 : 0;
+    if (small_gains == 2) break;
   }
   for (int c = 0; c < static_cast<int>(placed.size()); ++c)
     if (placed[c]) skeletonizer.freeze(c, false);

@@ -3,12 +3,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <string>
 #include <utility>
 
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
+#include "vmas/subsample.hpp"
 
 namespace vmas {
 
@@ -172,6 +174,41 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   for (double a : shape.area) shape.total_area += a;
   if (!(shape.total_area > 0.0)) throw InvalidInput("the shape has zero area");
   return shape;
+}
+
+
+Shape coarsen_shape(const Shape& shape, std::size_t budget) {
+  // The dominant axis and sign of each normal: opposite sides of a thin part fall apart.
+  std::vector<std::uint8_t> direction(shape.size());
+  for (int v = 0; v < shape.size(); ++v) {
+    int axis = 0;
+    shape.normals[v].cwiseAbs().maxCoeff(&axis);
+    direction[v] = static_cast<std::uint8_t>(2 * axis + (shape.normals[v][axis] < 0.0 ? 1 : 0));
+  }
+  const Subsample cells = subsample(shape.points, budget, direction);
+  Shape coarse;
+  const std::size_t count = cells.kept.size();
+  coarse.points.reserve(count);
+  for (int v : cells.kept) {
+    coarse.points.push_back(shape.points[v]);
+    coarse.normals.push_back(shape.normals[v]);
+  }
+  coarse.area.assign(count, 0.0);
+  coarse.quadric.assign(count, Sqem());
+  std::vector<std::pair<int, int>> pairs;
+  for (int v = 0; v < shape.size(); ++v) {
+    const int cell = cells.representative[v];
+    coarse.area[cell] += shape.area[v];
+    coarse.quadric[cell] += shape.quadric[v];
+    for (int k = shape.neighbour_offsets[v]; k < shape.neighbour_offsets[v + 1]; ++k)
+      pairs.emplace_back(cell, cells.representative[shape.neighbours[k]]);
+  }
+  set_neighbour_graph(coarse, std::move(pairs));
+  coarse.blocks = build_blocks(coarse.points);
+  coarse.is_mesh = shape.is_mesh;
+  coarse.diagonal = shape.diagonal;
+  coarse.total_area = shape.total_area;
+  return coarse;
 }
 
 }  // namespace vmas

@@ -53,6 +53,12 @@ using Clock = std::chrono::steady_clock;
 // Re-seeding rounds for tiny clusters after each final re-partition.
 constexpr int kFinalReseeds = 4;
 
+// The coarse start (SkeletonizerOptions::coarse_start) runs on about max(1/kCoarseShare of the
+// vertices, kCoarseVerticesPerSphere per sphere), when that is at most kCoarseAtMost of them.
+constexpr std::size_t kCoarseShare = 4;
+constexpr std::size_t kCoarseVerticesPerSphere = 50;
+constexpr double kCoarseAtMost = 0.7;
+
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -261,9 +267,12 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
     summary.error = total_error_;
     return summary;
   };
+  const int coarse_iterations = start_coarse(progress, summary.cancelled);
+  summary.iterations = coarse_iterations;
+  if (summary.cancelled) return finish();
   double previous_error = total_error_;
-  int last_split = 0;
-  for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
+  int last_split = coarse_iterations;
+  for (int iteration = coarse_iterations + 1; iteration <= options_.max_iterations; ++iteration) {
     const double error = step();
     summary.iterations = iteration;
     if (!report(Progress::Phase::Optimising, error, 0)) return finish();
@@ -296,6 +305,32 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
     if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
   }
   return finish();
+}
+
+int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled) {
+  const std::size_t vertices = shape_.size();
+  const std::size_t target = options_.target_spheres;
+  const std::size_t budget =
+      std::max(vertices / kCoarseShare, kCoarseVerticesPerSphere * target);
+  if (!options_.coarse_start || target == 0 || spheres_.size() != 1 ||
+      budget > kCoarseAtMost * vertices)
+    return 0;
+  SkeletonizerOptions coarse_options = options_;
+  coarse_options.coarse_start = false;
+  coarse_options.final_rounds = 0;  // the full shape's steps follow
+  Skeletonizer coarse(coarsen_shape(shape_, budget), coarse_options);
+  const RunSummary summary = coarse.run(progress);
+  cancelled = summary.cancelled;
+  spheres_ = coarse.spheres();
+  frozen_.assign(spheres_.size(), false);
+  energies_current_ = false;
+  repartition();
+  const StageTimes& times = coarse.times();
+  times_.partition += times.partition;
+  times_.update += times.update;
+  times_.projection += times.projection;
+  times_.split += times.split;
+  return summary.iterations;
 }
 
 void Skeletonizer::final_refit(int round) {

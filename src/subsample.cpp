@@ -4,13 +4,16 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <stdexcept>
 
 namespace vmas {
 
 namespace {
 
-// Cells per axis stay below 2^21, so that three cell coordinates pack into one 64-bit key.
-constexpr int kBitsPerAxis = 21;
+// Cells per axis stay below 2^20, so that three cell coordinates and a group (3 bits) pack into
+// one 64-bit key.
+constexpr int kBitsPerAxis = 20;
+constexpr int kGroupBits = 3;
 constexpr double kMaxCells = double(1 << kBitsPerAxis) - 1.0;
 // Grid sizes tried; the count usually lands in range at the second or third.
 constexpr int kMaxTries = 8;
@@ -23,10 +26,11 @@ struct Grid {
   Eigen::Array3d cell_of(const Vec3& p) const {
     return ((p - origin) / leaf).array().floor().min(kMaxCells).max(0.0);
   }
-  std::uint64_t key(const Vec3& p) const {
+  std::uint64_t key(const Vec3& p, std::uint8_t group) const {
     const Eigen::Array3d c = cell_of(p);
-    return (static_cast<std::uint64_t>(c.x()) << (2 * kBitsPerAxis)) |
-           (static_cast<std::uint64_t>(c.y()) << kBitsPerAxis) | static_cast<std::uint64_t>(c.z());
+    return (static_cast<std::uint64_t>(c.x()) << (2 * kBitsPerAxis + kGroupBits)) |
+           (static_cast<std::uint64_t>(c.y()) << (kBitsPerAxis + kGroupBits)) |
+           (static_cast<std::uint64_t>(c.z()) << kGroupBits) | group;
   }
   double squared_distance_to_centre(const Vec3& p) const {
     const Vec3 centre = origin + leaf * (cell_of(p) + 0.5).matrix();
@@ -34,17 +38,26 @@ struct Grid {
   }
 };
 
-std::size_t occupied_cells(const std::vector<Vec3>& points, const Grid& grid,
-                           std::vector<std::uint64_t>& keys) {
+std::uint8_t group_of(const std::vector<std::uint8_t>& groups, std::size_t i) {
+  return groups.empty() ? 0 : groups[i];
+}
+
+std::size_t occupied_cells(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& groups,
+                           const Grid& grid, std::vector<std::uint64_t>& keys) {
   keys.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) keys[i] = grid.key(points[i]);
+  for (std::size_t i = 0; i < points.size(); ++i) keys[i] = grid.key(points[i], group_of(groups, i));
   std::sort(keys.begin(), keys.end());
   return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
 
 }  // namespace
 
-Subsample subsample(const std::vector<Vec3>& points, std::size_t budget) {
+Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
+                    const std::vector<std::uint8_t>& groups) {
+  if (!groups.empty() && groups.size() != points.size())
+    throw std::invalid_argument("subsample: one group per point");
+  for (std::uint8_t g : groups)
+    if (g >= (1 << kGroupBits)) throw std::invalid_argument("subsample: groups must be below 8");
   Subsample result;
   const std::size_t n = points.size();
   if (budget == 0 || n <= budget) {
@@ -67,7 +80,7 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget) {
   double exponent = 2.0, previous_leaf = 0.0;
   std::size_t previous_count = 0;
   for (int attempt = 0; attempt < kMaxTries; ++attempt) {
-    const std::size_t count = occupied_cells(points, grid, keys);
+    const std::size_t count = occupied_cells(points, groups, grid, keys);
     const double fill = double(count) / budget;
     if (fill <= 1.0 && fill >= kLowestFill) break;
     if (attempt > 0) {
@@ -87,7 +100,7 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget) {
   keys.resize(n);
   std::vector<double> distance(n);
   for (std::size_t i = 0; i < n; ++i) {
-    keys[i] = grid.key(points[i]);
+    keys[i] = grid.key(points[i], group_of(groups, i));
     distance[i] = grid.squared_distance_to_centre(points[i]);
   }
   std::vector<int> order(n);

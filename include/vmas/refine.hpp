@@ -12,7 +12,8 @@ namespace vmas {
 
 struct RefineOptions {
   int max_moves = 12;     // moves tried at most (0: the stage is off)
-  double min_gain = 0.01;  // stop after a move that lowered the error by less than this fraction
+  double min_gain = 0.01;  // stop after two moves in a row that lowered the error by less than
+                           // this fraction
   void validate() const;  // throws InvalidOption
 };
 

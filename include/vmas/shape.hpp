@@ -2,6 +2,7 @@
 // The shape as the method sees it (paper §3.1): positions, outward unit normals, per-vertex
 // support area A(v), the diffused quadric Q_v of each vertex, and a symmetric neighbour graph
 // (mesh edges, or the k-NN graph of a cloud) used for cluster adjacency.
+#include <cstddef>
 #include <vector>
 
 #include "vmas/sqem.hpp"
@@ -45,5 +46,12 @@ struct Shape {
 // (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput
 // otherwise).
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
+
+// The shape seen from afar, for the first rounds of a run: about `budget` vertices, one per cell
+// of a voxel grid and dominant normal direction (so that the two sides of a thin part stay
+// apart; vmas/subsample.hpp). A coarse vertex is its cell's point (position, normal) and carries
+// the cell's total area and summed quadric (quadrics add up exactly); two coarse vertices are
+// neighbours when some of their members are. The shape itself when it has no more vertices.
+Shape coarsen_shape(const Shape& shape, std::size_t budget);
 
 }  // namespace vmas

@@ -31,6 +31,10 @@ struct SkeletonizerOptions {
   int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
                                    // of the worst cluster after a partition
   bool project = true;             // shrinking-ball correction after every update (§3.3)
+  // With a sphere count: run() grows the spheres on a coarsened copy of the shape (about a
+  // quarter of the vertices, at least 50 per sphere; coarsen_shape), then settles and refits
+  // them on the whole shape. Steps on the coarse shape cost a fraction.
+  bool coarse_start = true;
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
@@ -120,6 +124,9 @@ class Skeletonizer {
   double total_error() const { return total_error_; }
 
  private:
+  // The coarse start of run() when it applies: runs a skeletonizer on the coarsened shape and
+  // takes its spheres; returns its steps (0 when it does not apply).
+  int start_coarse(const ProgressCallback& progress, bool& cancelled);
   void repartition();                   // partition, then refresh members and errors
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed

@@ -4,6 +4,7 @@
 // so that about the budget remains; every other point is represented by its cell's point (its
 // label, in the end). The grid evens out the density of merged scans as a side effect.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "vmas/types.hpp"
@@ -18,7 +19,9 @@ struct Subsample {
 
 // Keeps every point when there are at most `budget` (or budget is 0). Otherwise the cell's point
 // is the one nearest the cell's centre (ties: the lower index), and between 0.8 and 1 times the
-// budget remain on a surface (a few grid sizes are tried). Deterministic.
-Subsample subsample(const std::vector<Vec3>& points, std::size_t budget);
+// budget remain on a surface (a few grid sizes are tried). Points of different `groups` (one
+// small number per point, or none) never share a cell's point. Deterministic.
+Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
+                    const std::vector<std::uint8_t>& groups = {});
 
 }  // namespace vmas
