@@ -3,12 +3,16 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <optional>
 #include <random>
 #include <string>
 #include <tuple>
+#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "vmas/error.hpp"
@@ -19,8 +23,6 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
-// EvalOptions::maxima_only: every this many samples get an exact distance first.
-constexpr std::size_t kFloorStride = 16;
 
 Box sphere_box(const Vec3& center, double radius) {
   const Vec3 extent = Vec3::Constant(radius);
@@ -302,15 +304,25 @@ class Envelope {
     for (const auto& f : medial.faces) {
       slabs_.emplace_back(spheres_[f[0]], spheres_[f[1]], spheres_[f[2]]);
     }
+    std::vector<std::uint64_t> sphere_keys;
+    for (const Sphere& sphere : spheres_) sphere_keys.push_back(key_of(sphere));
+    solid_keys_ = sphere_keys;
+    for (const auto& e : edges) solid_keys_.push_back(key_of(1, {sphere_keys[e[0]], sphere_keys[e[1]]}));
+    for (const auto& f : medial.faces)
+      solid_keys_.push_back(
+          key_of(2, {sphere_keys[f[0]], sphere_keys[f[1]], sphere_keys[f[2]]}));
 
     for (const Sphere& s : spheres_) solid_boxes_.push_back(sphere_box(s.center, s.radius));
     for (const Cone& c : cones_) solid_boxes_.push_back(c.box());
     for (const Slab& s : slabs_) solid_boxes_.push_back(s.box());
+    piece_keys_.assign(solid_keys_.begin(), solid_keys_.begin() + spheres_.size() + cones_.size());
+    const std::size_t first_slab = spheres_.size() + cones_.size();
     for (int i = 0; i < static_cast<int>(slabs_.size()); ++i) {
       if (!slabs_[i].has_planes) continue;
-      for (const auto& t : slabs_[i].triangles) {
-        triangles_.push_back(t);
+      for (std::uint64_t side = 0; side < slabs_[i].triangles.size(); ++side) {
+        triangles_.push_back(slabs_[i].triangles[side]);
         triangle_slab_.push_back(i);
+        piece_keys_.push_back(key_of(3, {solid_keys_[first_slab + i], side}));
       }
     }
     // Boundary pieces: sphere surfaces, cone surfaces, tangent triangles.
@@ -328,27 +340,75 @@ class Envelope {
   // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle
   // (or some distance below `stop_below`: see Bvh::nearest).
   double boundary_distance(const Vec3& p, double stop_below = -kInfinity) const {
+    return piece_tree_->nearest(p, [&](int id) { return piece_distance(id, p); }, stop_below);
+  }
+
+  int solid_count() const { return static_cast<int>(solid_keys_.size()); }
+  int piece_count() const { return static_cast<int>(piece_keys_.size()); }
+  // The same primitive in two envelopes has the same key, whatever its index: a hash of the exact
+  // geometry of its spheres (never kUnknown or kNone).
+  std::uint64_t solid_key(int solid) const { return solid_keys_[solid]; }
+  std::uint64_t piece_key(int piece) const { return piece_keys_[piece]; }
+  const Box& solid_box(int solid) const { return solid_boxes_[solid]; }
+  const Box& piece_box(int piece) const { return piece_boxes_[piece]; }
+
+  // Unsigned distance from p to the boundary piece.
+  double piece_distance(int piece, const Vec3& p) const {
     const int spheres = static_cast<int>(spheres_.size());
     const int cones = static_cast<int>(cones_.size());
-    return piece_tree_->nearest(p, [&](int id) {
-      if (id < spheres) return std::abs((p - spheres_[id].center).norm() - spheres_[id].radius);
-      if (id < spheres + cones) return std::abs(cones_[id - spheres].signed_distance(p));
-      const auto& t = triangles_[id - spheres - cones];
-      return point_triangle_distance(p, t[0], t[1], t[2]);
-    }, stop_below);
+    if (piece < spheres) return std::abs((p - spheres_[piece].center).norm() - spheres_[piece].radius);
+    if (piece < spheres + cones) return std::abs(cones_[piece - spheres].signed_distance(p));
+    const auto& t = triangles_[piece - spheres - cones];
+    return point_triangle_distance(p, t[0], t[1], t[2]);
+  }
+
+  // The nearest piece to p and its distance.
+  double nearest_piece(const Vec3& p, int& piece) const {
+    piece = -1;
+    return piece_tree_->nearest(p, [&](int id) { return piece_distance(id, p); }, -kInfinity,
+                                &piece);
+  }
+
+  // Whether p lies deeper than `tolerance` inside `solid`.
+  bool deep_inside(int solid, const Vec3& p, double tolerance) const {
+    return solid_signed_distance(solid, p) < -tolerance;
+  }
+
+  // A solid other than the owner of `piece` that p lies deeper than `tolerance` inside; -1 when
+  // none does.
+  int hider(const Vec3& p, int piece, double tolerance) const {
+    const int owner = owner_solid(piece);
+    int found = -1;
+    solid_tree_->any_containing(p, [&](int id) {
+      if (id == owner || !deep_inside(id, p, tolerance)) return false;
+      found = id;
+      return true;
+    });
+    return found;
+  }
+
+  int owner_solid(int piece) const {
+    const int first_triangle = static_cast<int>(spheres_.size() + cones_.size());
+    return piece < first_triangle ? piece : first_triangle + triangle_slab_[piece - first_triangle];
+  }
+
+  // Samples `spacing` apart on one boundary piece.
+  void sample_piece(int piece, double spacing, BoundarySamples& out) const {
+    const int spheres = static_cast<int>(spheres_.size());
+    const int cones = static_cast<int>(cones_.size());
+    if (piece < spheres)
+      sample_sphere(spheres_[piece], spacing, piece, out);
+    else if (piece < spheres + cones)
+      sample_cone(cones_[piece - spheres], spacing, piece, out);
+    else
+      sample_triangle(triangles_[piece - spheres - cones], spacing, piece, out);
   }
 
   // Samples `spacing` apart on every boundary piece (sphere, cone lateral surface, tangent
   // triangle), with the piece each lies on; hidden ones included.
   BoundarySamples sample_boundaries(double spacing) const {
     BoundarySamples samples;
-    const int spheres = static_cast<int>(spheres_.size());
-    const int cones = static_cast<int>(cones_.size());
-    for (int i = 0; i < spheres; ++i) sample_sphere(spheres_[i], spacing, i, samples);
-    for (int i = 0; i < cones; ++i) sample_cone(cones_[i], spacing, spheres + i, samples);
-    for (int i = 0; i < static_cast<int>(triangles_.size()); ++i) {
-      sample_triangle(triangles_[i], spacing, spheres + cones + i, samples);
-    }
+    for (int piece = 0; piece < piece_count(); ++piece) sample_piece(piece, spacing, samples);
     return samples;
   }
 
@@ -418,9 +478,25 @@ class Envelope {
   }
 
  private:
-  int owner_solid(int piece) const {
-    const int first_triangle = static_cast<int>(spheres_.size() + cones_.size());
-    return piece < first_triangle ? piece : first_triangle + triangle_slab_[piece - first_triangle];
+  static std::uint64_t key_of(const Sphere& s) {
+    return key_of(0, {bits(s.center.x()), bits(s.center.y()), bits(s.center.z()), bits(s.radius)});
+  }
+  // Order-free for the spheres of a cone or slab; `kind` keeps kinds apart.
+  static std::uint64_t key_of(std::uint64_t kind, std::vector<std::uint64_t> parts) {
+    if (kind == 1 || kind == 2) std::sort(parts.begin(), parts.end());
+    std::uint64_t h = mix(kind + 0x9e3779b97f4a7c15ULL);
+    for (std::uint64_t part : parts) h = mix(h ^ part);
+    return std::clamp<std::uint64_t>(h, 2, std::numeric_limits<std::uint64_t>::max() - 1);
+  }
+  static std::uint64_t bits(double x) {
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  }
+  static std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
   }
 
   // Closest point of the piece to q (q near it); false when q falls outside a triangle.
@@ -517,6 +593,7 @@ class Envelope {
   std::vector<Slab> slabs_;
   std::vector<std::array<Vec3, 3>> triangles_;  // tangent triangles of the slabs that have them
   std::vector<int> triangle_slab_;
+  std::vector<std::uint64_t> solid_keys_, piece_keys_;
   std::vector<Box> solid_boxes_, piece_boxes_;
   std::optional<Bvh> solid_tree_, piece_tree_;  // built last: they refer to the box vectors
 };
@@ -702,6 +779,23 @@ std::vector<double> envelope_distances(const MedialMesh& medial, const std::vect
   return distances;
 }
 
+// What the last measured reconstruction left to reuse: distances and visibility depend only on
+// the primitives involved, which are recognised by their keys (Envelope::piece_key, solid_key).
+struct SurfaceSideCache {  // surface -> medial
+  std::vector<double> distance;        // of every surface sample, exact
+  std::vector<std::uint64_t> nearest;  // the key of the piece at that distance
+  std::unordered_set<std::uint64_t> pieces;  // keys of every piece then
+};
+
+constexpr std::uint64_t kUnknown = 0;  // a sample's hider not yet looked for
+constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();  // a visible sample
+
+struct PieceSamples {  // medial -> surface: the uniform samples of one boundary piece
+  std::vector<Vec3> points;
+  std::vector<std::uint64_t> hider;  // key of a solid the sample is hidden in; kNone, kUnknown
+  std::vector<double> distance;      // to the input, exact; NaN until needed
+};
+
 struct Evaluator::Impl {
   Impl(const SurfaceInput& shape, const EvalOptions& options)
       : options(options), shape(shape), distance(shape) {}
@@ -710,6 +804,9 @@ struct Evaluator::Impl {
   double diagonal = 0.0;
   std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
   ShapeDistance distance;     // medial -> surface
+  SurfaceSideCache surface_side;
+  std::unordered_map<std::uint64_t, PieceSamples> boundary_side;  // by piece key
+  std::unordered_set<std::uint64_t> solids;  // keys of every solid of the last reconstruction
 };
 
 namespace {
@@ -743,45 +840,147 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
   return Evaluator(shape, options)(medial);
 }
 
+namespace {
+
+// The primitives of `envelope` not among `known` keys, with a tree over their boxes.
+struct FreshPrimitives {
+  std::vector<int> ids;
+  std::vector<Box> boxes;
+  std::optional<Bvh> tree;  // refers to boxes
+};
+
+template <class KeyOf, class BoxOf>
+void find_fresh(int count, const std::unordered_set<std::uint64_t>& known, KeyOf key_of,
+                BoxOf box_of, FreshPrimitives& fresh) {
+  for (int id = 0; id < count; ++id) {
+    if (known.count(key_of(id))) continue;
+    fresh.ids.push_back(id);
+    fresh.boxes.push_back(box_of(id));
+  }
+  fresh.tree.emplace(fresh.boxes);
+}
+
+}  // namespace
+
 EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   const EvalOptions& options = impl_->options;
-  const SurfaceInput& shape = impl_->shape;
   const std::vector<Vec3>& samples = impl_->samples;
   const ShapeDistance& distance = impl_->distance;
   const Envelope envelope(medial);
   EvalResult result;
   result.diagonal = impl_->diagonal;
-  // For the maxima alone, the exact distances of a few evenly spread points bound them from
-  // below, and every other distance may stop once it is below that bound.
-  const auto floor_of = [&](const std::vector<Vec3>& points, const auto& exact_distances) {
-    if (!options.maxima_only) return -kInfinity;
-    std::vector<Vec3> spread;
-    for (std::size_t i = 0; i < points.size(); i += kFloorStride) spread.push_back(points[i]);
-    const std::vector<double> exact = exact_distances(spread);
-    return exact.empty() ? -kInfinity : *std::max_element(exact.begin(), exact.end());
-  };
-  const auto to_boundaries = [&](const std::vector<Vec3>& points, double stop_below) {
-    std::vector<double> distances(points.size());
-    const auto count = static_cast<std::ptrdiff_t>(points.size());
+
+  // Surface -> medial. A sample whose nearest piece is still there is at most as far as before,
+  // and only the new pieces can be nearer.
+  SurfaceSideCache& surface_side = impl_->surface_side;
+  FreshPrimitives fresh_pieces;
+  find_fresh(
+      envelope.piece_count(), surface_side.pieces, [&](int id) { return envelope.piece_key(id); },
+      [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
+  std::unordered_set<std::uint64_t> pieces_now;
+  for (int id = 0; id < envelope.piece_count(); ++id) pieces_now.insert(envelope.piece_key(id));
+  const bool reuse = !surface_side.distance.empty();
+  surface_side.distance.resize(samples.size());
+  surface_side.nearest.resize(samples.size());
+  const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(dynamic, 1024)
-    for (std::ptrdiff_t i = 0; i < count; ++i)
-      distances[i] = envelope.boundary_distance(points[i], stop_below);
-    return distances;
-  };
-  const std::vector<double> to_medial = to_boundaries(
-      samples, floor_of(samples, [&](const auto& points) { return to_boundaries(points, -kInfinity); }));
+  for (std::ptrdiff_t i = 0; i < sample_count; ++i) {
+    const Vec3& p = samples[i];
+    double& d = surface_side.distance[i];
+    std::uint64_t& nearest = surface_side.nearest[i];
+    if (reuse && pieces_now.count(nearest)) {
+      int item = -1;
+      const double fresh = fresh_pieces.tree->nearest(
+          p, [&](int k) { return envelope.piece_distance(fresh_pieces.ids[k], p); }, -kInfinity,
+          &item);
+      if (fresh < d) {
+        d = fresh;
+        nearest = envelope.piece_key(fresh_pieces.ids[item]);
+      }
+    } else {
+      int piece = -1;
+      d = envelope.nearest_piece(p, piece);
+      nearest = envelope.piece_key(piece);
+    }
+  }
+  surface_side.pieces = std::move(pieces_now);
+  const std::vector<double>& to_medial = surface_side.distance;
 
   // Medial -> surface: uniform samples give the mean. The distance is 1-Lipschitz, so the maximum
   // can only exceed a sample's value by the spacing: refine (twice, 4x finer) around the samples
-  // with the largest distances that could still hold it.
+  // with the largest distances that could still hold it. The uniform samples of a piece that was
+  // already there keep their distance, and their hider while it is there; a visible one can only
+  // be hidden by a new solid.
   const double tolerance = options.inside_tolerance * result.diagonal;
   double spacing = options.boundary_spacing * result.diagonal;
-  BoundarySamples boundary = envelope.visible(envelope.sample_boundaries(spacing), tolerance);
-  // Distances below the bound minus a spacing cannot lead to the maximum: exact ones are needed
-  // from there up only.
-  const double surface_floor =
-      floor_of(boundary.points, [&](const auto& points) { return distance(points); }) - spacing;
-  std::vector<double> to_surface = distance(boundary.points, surface_floor);
+  FreshPrimitives fresh_solids;
+  find_fresh(
+      envelope.solid_count(), impl_->solids, [&](int id) { return envelope.solid_key(id); },
+      [&](int id) { return envelope.solid_box(id); }, fresh_solids);
+  std::unordered_set<std::uint64_t> solids_now;
+  for (int id = 0; id < envelope.solid_count(); ++id) solids_now.insert(envelope.solid_key(id));
+  std::unordered_map<std::uint64_t, PieceSamples> boundary_side;
+  std::vector<std::pair<PieceSamples*, int>> by_piece;  // in piece order
+  for (int piece = 0; piece < envelope.piece_count(); ++piece) {
+    const std::uint64_t key = envelope.piece_key(piece);
+    auto known = impl_->boundary_side.find(key);
+    PieceSamples& entry = boundary_side[key];
+    if (known != impl_->boundary_side.end()) {
+      entry = std::move(known->second);
+    } else {
+      BoundarySamples sampled;
+      envelope.sample_piece(piece, spacing, sampled);
+      entry.points = std::move(sampled.points);
+      entry.hider.assign(entry.points.size(), kUnknown);
+      entry.distance.assign(entry.points.size(), std::numeric_limits<double>::quiet_NaN());
+    }
+    by_piece.emplace_back(&entry, piece);
+  }
+  std::vector<std::pair<int, int>> flat;  // (index into by_piece, sample)
+  for (int k = 0; k < static_cast<int>(by_piece.size()); ++k)
+    for (int j = 0; j < static_cast<int>(by_piece[k].first->points.size()); ++j)
+      flat.emplace_back(k, j);
+  const auto flat_count = static_cast<std::ptrdiff_t>(flat.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
+    PieceSamples& entry = *by_piece[flat[f].first].first;
+    const int piece = by_piece[flat[f].first].second, j = flat[f].second;
+    const Vec3& p = entry.points[j];
+    std::uint64_t& hider = entry.hider[j];
+    if (hider != kUnknown && hider != kNone && solids_now.count(hider)) continue;
+    if (hider == kNone) {
+      const int owner = envelope.owner_solid(piece);
+      fresh_solids.tree->any_containing(p, [&](int k) {
+        const int id = fresh_solids.ids[k];
+        if (id == owner || !envelope.deep_inside(id, p, tolerance)) return false;
+        hider = envelope.solid_key(id);
+        return true;
+      });
+      continue;
+    }
+    const int id = envelope.hider(p, piece, tolerance);
+    hider = id < 0 ? kNone : envelope.solid_key(id);
+  }
+  BoundarySamples boundary;
+  std::vector<double*> distances;
+  for (const auto& [entry, piece] : by_piece)
+    for (std::size_t j = 0; j < entry->points.size(); ++j) {
+      if (entry->hider[j] != kNone) continue;
+      boundary.points.push_back(entry->points[j]);
+      boundary.pieces.push_back(piece);
+      distances.push_back(&entry->distance[j]);
+    }
+  std::vector<Vec3> unmeasured;
+  for (std::size_t i = 0; i < distances.size(); ++i)
+    if (std::isnan(*distances[i])) unmeasured.push_back(boundary.points[i]);
+  const std::vector<double> measured = distance(unmeasured);
+  std::vector<double> to_surface(distances.size());
+  for (std::size_t i = 0, next = 0; i < distances.size(); ++i) {
+    if (std::isnan(*distances[i])) *distances[i] = measured[next++];
+    to_surface[i] = *distances[i];
+  }
+  impl_->boundary_side = std::move(boundary_side);
+  impl_->solids = std::move(solids_now);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
   result.boundary_sample_count = boundary.points.size();
@@ -826,7 +1025,7 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
     result.boundary_error.clear();
     return result;
   }
-  result.vertex_error.assign(to_medial.begin(), to_medial.begin() + shape.points.size());
+  result.vertex_error.assign(to_medial.begin(), to_medial.begin() + impl_->shape.points.size());
   return result;
 }
 

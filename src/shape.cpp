@@ -21,22 +21,34 @@ void ShapeOptions::validate() const {
 
 namespace {
 
-// Turns a list of directed pairs into a symmetric CSR graph without repeats or self loops.
-void set_neighbour_graph(Shape& shape, std::vector<std::pair<int, int>> pairs) {
-  const std::size_t directed = pairs.size();
-  for (std::size_t i = 0; i < directed; ++i) pairs.emplace_back(pairs[i].second, pairs[i].first);
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  shape.neighbour_offsets.assign(shape.size() + 1, 0);
-  shape.neighbours.clear();
-  shape.neighbours.reserve(pairs.size());
+// Turns a list of directed pairs into a symmetric CSR graph without repeats or self loops,
+// neighbours in ascending order. Buckets by vertex, then sorts each short list: sorting all
+// pairs at once was the costliest part of building a shape.
+void set_neighbour_graph(Shape& shape, const std::vector<std::pair<int, int>>& pairs) {
+  const int n = shape.size();
+  std::vector<int> offsets(n + 1, 0);
   for (const auto& [from, to] : pairs) {
     if (from == to) continue;
-    ++shape.neighbour_offsets[from + 1];
-    shape.neighbours.push_back(to);
+    ++offsets[from + 1];
+    ++offsets[to + 1];
   }
-  for (int v = 0; v < shape.size(); ++v)
-    shape.neighbour_offsets[v + 1] += shape.neighbour_offsets[v];
+  for (int v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
+  std::vector<int> both(offsets[n]);
+  std::vector<int> fill(offsets.begin(), offsets.end() - 1);
+  for (const auto& [from, to] : pairs) {
+    if (from == to) continue;
+    both[fill[from]++] = to;
+    both[fill[to]++] = from;
+  }
+  shape.neighbour_offsets.assign(n + 1, 0);
+  shape.neighbours.clear();
+  shape.neighbours.reserve(both.size());
+  for (int v = 0; v < n; ++v) {
+    const auto first = both.begin() + offsets[v], last = both.begin() + offsets[v + 1];
+    std::sort(first, last);
+    shape.neighbours.insert(shape.neighbours.end(), first, std::unique(first, last));
+    shape.neighbour_offsets[v + 1] = static_cast<int>(shape.neighbours.size());
+  }
 }
 
 void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
@@ -200,10 +212,12 @@ Shape coarsen_shape(const Shape& shape, std::size_t budget) {
     const int cell = cells.representative[v];
     coarse.area[cell] += shape.area[v];
     coarse.quadric[cell] += shape.quadric[v];
-    for (int k = shape.neighbour_offsets[v]; k < shape.neighbour_offsets[v + 1]; ++k)
-      pairs.emplace_back(cell, cells.representative[shape.neighbours[k]]);
+    for (int k = shape.neighbour_offsets[v]; k < shape.neighbour_offsets[v + 1]; ++k) {
+      const int other = cells.representative[shape.neighbours[k]];
+      if (other > cell) pairs.emplace_back(cell, other);  // the graph is symmetric
+    }
   }
-  set_neighbour_graph(coarse, std::move(pairs));
+  set_neighbour_graph(coarse, pairs);
   coarse.blocks = build_blocks(coarse.points);
   coarse.is_mesh = shape.is_mesh;
   coarse.diagonal = shape.diagonal;
