@@ -157,7 +157,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   EvalOptions coarse;
   coarse.surface_samples = 0;
   coarse.boundary_spacing = 0.016;
-  coarse.refined_samples = 32;
+  coarse.refined_samples = 8;
   coarse.maxima_only = true;
   const Evaluator evaluator(surface, coarse);
   const auto measure = [&] { return evaluator(skeletonizer.medial_mesh()); };

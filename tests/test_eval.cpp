@@ -462,6 +462,54 @@ TEST(Eval, DeterministicAcrossThreadCounts) {
   EXPECT_NE(evaluate(mesh, medial, options).surface_to_medial_mean, one.surface_to_medial_mean);
 }
 
+// The evaluator reuses what it measured of primitives it saw before: a sequence of related
+// reconstructions must measure exactly as fresh evaluations do.
+TEST(Eval, AnEvaluatorMeasuringOneChangeAfterAnotherMatchesFreshEvaluations) {
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
+  std::vector<MedialMesh> sequence{random_medial(5)};
+  MedialMesh changed = sequence.back();
+  changed.spheres[3].radius *= 1.2;  // every primitive of sphere 3 changes
+  sequence.push_back(changed);
+  changed.spheres.push_back({Vec3(0.2, 0.1, -0.3), 0.3});  // a new sphere, an edge to it
+  changed.edges.push_back({0, static_cast<int>(changed.spheres.size()) - 1});
+  sequence.push_back(changed);
+  changed.faces.pop_back();  // a slab goes
+  sequence.push_back(changed);
+  sequence.push_back(random_medial(5));  // back to the first
+  for (bool maxima_only : {false, true}) {
+    EvalOptions options;
+    options.boundary_spacing = 0.01;
+    options.maxima_only = maxima_only;
+    const Evaluator evaluator(mesh, options);
+    for (std::size_t k = 0; k < sequence.size(); ++k) {
+      const EvalResult reused = evaluator(sequence[k]);
+      const EvalResult fresh = evaluate(mesh, sequence[k], options);
+      EXPECT_EQ(reused.hausdorff, fresh.hausdorff) << k;
+      EXPECT_EQ(reused.surface_to_medial_max, fresh.surface_to_medial_max) << k;
+      EXPECT_EQ(reused.medial_to_surface_max, fresh.medial_to_surface_max) << k;
+      EXPECT_EQ(reused.surface_to_medial_worst, fresh.surface_to_medial_worst) << k;
+      EXPECT_EQ(reused.medial_to_surface_worst, fresh.medial_to_surface_worst) << k;
+      EXPECT_EQ(reused.surface_to_medial_mean, fresh.surface_to_medial_mean) << k;
+      EXPECT_EQ(reused.medial_to_surface_mean, fresh.medial_to_surface_mean) << k;
+      EXPECT_EQ(reused.boundary_sample_count, fresh.boundary_sample_count) << k;
+      EXPECT_EQ(reused.vertex_error, fresh.vertex_error) << k;
+    }
+  }
+  // Maxima alone are those of the full evaluation, where they are too.
+  EvalOptions only;
+  only.maxima_only = true;
+  const EvalResult full = evaluate(mesh, sequence[2]);
+  const EvalResult maxima = evaluate(mesh, sequence[2], only);
+  EXPECT_EQ(maxima.hausdorff, full.hausdorff);
+  EXPECT_EQ(maxima.surface_to_medial_worst, full.surface_to_medial_worst);
+  EXPECT_EQ(maxima.medial_to_surface_worst, full.medial_to_surface_worst);
+  EXPECT_TRUE(maxima.vertex_error.empty());
+  // The worst surface point is as far from the reconstruction as the maximum says.
+  const double at_worst =
+      envelope_distances(sequence[2], {full.surface_to_medial_worst}).front();
+  EXPECT_DOUBLE_EQ(at_worst, full.surface_to_medial_max);
+}
+
 TEST(Eval, BadInputsThrow) {
   const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 1);
   MedialMesh medial;

@@ -8,7 +8,9 @@
 
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"
+#include "vmas/eval.hpp"
 #include "vmas/skeletonizer.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {
@@ -83,6 +85,23 @@ INSTANTIATE_TEST_SUITE_P(Models, RealMesh,
                          ::testing::Values(std::make_pair("dove", 76), std::make_pair("bear", 45),
                                            std::make_pair("chair", 117)),
                          [](const auto& info) { return std::string(info.param.first); });
+
+// bug at the paper's count: the run alone leaves a leg tip uncovered (ε 0.96 %); the refinement
+// moves spheres there and the measured error drops, with the count kept.
+TEST(RealMesh, RefinementLowersTheErrorOfBug) {
+  REQUIRE_DATA("meshes/bug.off");
+  const SurfaceInput bug = read_surface(data_path("meshes/bug.off"));
+  Options options;
+  options.spheres = 75;
+  const Result refined = skeletonize(bug, options);
+  options.refine.max_moves = 0;
+  const Result plain = skeletonize(bug, options);
+  ASSERT_EQ(refined.medial_mesh.spheres.size(), 75u);
+  EXPECT_GE(refined.refine.kept, 1);
+  const double before = evaluate(bug, plain.medial_mesh).hausdorff;
+  const double after = evaluate(bug, refined.medial_mesh).hausdorff;
+  EXPECT_LT(after, 0.95 * before) << before << " -> " << after;
+}
 
 TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
   REQUIRE_DATA("scans/bunny_merged_45k.xyz");

@@ -9,6 +9,7 @@
 #include "vmas/error.hpp"
 #include "vmas/partition.hpp"
 #include "vmas/projection.hpp"
+#include "vmas/shape.hpp"
 #include "vmas/split.hpp"
 #include "vmas/sqem.hpp"
 #include "vmas/subsample.hpp"
@@ -229,6 +230,59 @@ TEST(Subsample, SmallCloudsAndAZeroBudgetKeepEveryPoint) {
   const Subsample on_line = subsample(line, 1000);
   EXPECT_GE(on_line.kept.size(), 800u);
   EXPECT_LE(on_line.kept.size(), 1000u);
+}
+
+TEST(Subsample, PointsOfDifferentGroupsNeverShareACellsPoint) {
+  const test::Sample box = test::sample_box(Vec3(1.0, 1.0, 1.0), 20000, 7);
+  std::vector<std::uint8_t> groups(box.points.size());
+  for (std::size_t i = 0; i < groups.size(); ++i) groups[i] = static_cast<std::uint8_t>(i % 3);
+  const Subsample thin = subsample(box.points, 3000, groups);
+  EXPECT_GE(thin.kept.size(), 2400u);
+  EXPECT_LE(thin.kept.size(), 3000u);
+  for (std::size_t i = 0; i < box.points.size(); ++i)
+    EXPECT_EQ(groups[thin.kept[thin.representative[i]]], groups[i]) << i;
+  EXPECT_THROW(subsample(box.points, 3000, std::vector<std::uint8_t>(5, 0)), std::invalid_argument);
+}
+
+// Two parallel plates closer than a coarse cell: the coarse shape keeps their sides apart.
+TEST(Shape, CoarsenedShapeKeepsAreaQuadricsAndTheTwoSidesOfAThinPart) {
+  SurfaceInput plates;
+  const int n = 60;
+  for (int side = 0; side < 2; ++side)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        plates.points.push_back(Vec3(i / double(n - 1), j / double(n - 1), side * 0.01));
+        plates.normals.push_back(Vec3(0.0, 0.0, side == 0 ? -1.0 : 1.0));
+      }
+  const Shape shape = build_shape(plates, {});
+  const Shape coarse = coarsen_shape(shape, shape.size() / 4);
+  EXPECT_LE(coarse.size(), shape.size() / 4);
+  EXPECT_GE(coarse.size(), shape.size() / 8);
+  double area = 0.0;
+  Sqem quadric, coarse_quadric;
+  for (int v = 0; v < shape.size(); ++v) quadric += shape.quadric[v];
+  for (int v = 0; v < coarse.size(); ++v) {
+    area += coarse.area[v];
+    coarse_quadric += coarse.quadric[v];
+  }
+  EXPECT_NEAR(area, shape.total_area, 1e-9 * shape.total_area);
+  const Sphere probe{Vec3(0.3, 0.4, 0.2), 0.25};
+  EXPECT_NEAR(coarse_quadric(probe), quadric(probe), 1e-9 * std::abs(quadric(probe)));
+  // Each side's vertices keep their own normal: no coarse vertex mixes the two plates.
+  int down = 0, up = 0;
+  for (int v = 0; v < coarse.size(); ++v) (coarse.normals[v].z() < 0.0 ? down : up)++;
+  EXPECT_GT(down, coarse.size() / 3);
+  EXPECT_GT(up, coarse.size() / 3);
+  // The neighbour graph is symmetric, without self loops.
+  for (int v = 0; v < coarse.size(); ++v)
+    for (int k = coarse.neighbour_offsets[v]; k < coarse.neighbour_offsets[v + 1]; ++k) {
+      const int w = coarse.neighbours[k];
+      EXPECT_NE(w, v);
+      const auto first = coarse.neighbours.begin() + coarse.neighbour_offsets[w];
+      const auto last = coarse.neighbours.begin() + coarse.neighbour_offsets[w + 1];
+      EXPECT_TRUE(std::find(first, last, v) != last);
+    }
+  EXPECT_EQ(coarse.blocks.vertices.size(), static_cast<std::size_t>(coarse.size()));
 }
 
 TEST(Connectivity, SymmetricValidEdgesAndCliqueFaces) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "test_shapes.hpp"
+#include "vmas/eval.hpp"
 #include "vmas/vmas.hpp"
 
 namespace vmas {
@@ -124,6 +125,70 @@ TEST(OneCall, ReportsEveryPhaseAndCancelsWhenTheCallbackSaysSo) {
                Cancelled);
   EXPECT_EQ(steps, 3);
   EXPECT_THROW(skeletonize(cloud, options, [](const Progress&) { return false; }), Cancelled);
+}
+
+SurfaceInput box_cloud() {
+  const test::Sample s = test::sample_box(Vec3(1.0, 0.6, 0.3), 20000, 3);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  return cloud;
+}
+
+// The refinement after the run: on this box the run leaves corners worse served than they need
+// to be, and moves that lower the measured error exist.
+TEST(Refine, KeepsOnlyMovesThatLowerTheMeasuredErrorAndTheExactCount) {
+  const SurfaceInput box = box_cloud();
+  Options options;
+  options.spheres = 12;
+  const Result refined = skeletonize(box, options);
+  options.refine.max_moves = 0;
+  const Result plain = skeletonize(box, options);
+  EXPECT_EQ(plain.refine.tried, 0);
+  EXPECT_EQ(plain.seconds.refine, 0.0);
+  ASSERT_EQ(refined.medial_mesh.spheres.size(), 12u);
+  EXPECT_GE(refined.refine.kept, 1);
+  EXPECT_LE(refined.refine.kept, refined.refine.tried);
+  EXPECT_LT(refined.refine.error_after, refined.refine.error_before);
+  EXPECT_GT(refined.seconds.refine, 0.0);
+  // The same metric from outside (vmas eval): lower too.
+  EXPECT_LT(evaluate(box, refined.medial_mesh).hausdorff,
+            evaluate(box, plain.medial_mesh).hausdorff);
+  // No move is kept past max_moves.
+  options.refine.max_moves = 1;
+  EXPECT_LE(skeletonize(box, options).refine.tried, 1);
+}
+
+TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
+  const SurfaceInput box = box_cloud();
+  Options options;
+  options.spheres = 12;
+  options.threads = 1;
+  const Result one = skeletonize(box, options);
+  options.threads = 2;
+  const Result two = skeletonize(box, options);
+  ASSERT_EQ(one.medial_mesh.spheres.size(), two.medial_mesh.spheres.size());
+  for (std::size_t i = 0; i < one.medial_mesh.spheres.size(); ++i) {
+    EXPECT_EQ(one.medial_mesh.spheres[i].center, two.medial_mesh.spheres[i].center);
+    EXPECT_EQ(one.medial_mesh.spheres[i].radius, two.medial_mesh.spheres[i].radius);
+  }
+  EXPECT_EQ(one.medial_mesh.edges, two.medial_mesh.edges);
+  EXPECT_EQ(one.refine.kept, two.refine.kept);
+
+  int moves = 0, rounds = 0;
+  EXPECT_THROW(skeletonize(box, options,
+                           [&](const Progress& p) {
+                             if (p.phase != Progress::Phase::Refining) return true;
+                             ++moves;
+                             rounds = p.rounds;
+                             EXPECT_GT(p.error, 0.0);
+                             return false;
+                           }),
+               Cancelled);
+  EXPECT_EQ(moves, 1);
+  EXPECT_EQ(rounds, options.refine.max_moves);
+  options.refine.max_moves = -1;
+  EXPECT_THROW(skeletonize(box, options), InvalidOption);
 }
 
 TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {
