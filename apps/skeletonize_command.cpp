@@ -81,6 +81,7 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                               : prepared.normals_estimated ? "estimated"
                               : prepared.normals_oriented  ? "re-oriented"
                                                            : "given";
+  const RefineReport& refine = result.refine;
   json summary = {{"vmas", version()},
                   {"input", job.input},
                   {"output", job.output},
@@ -114,10 +115,10 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                   {"medial_faces", result.medial_mesh.faces.size()},
                   {"iterations", result.summary.iterations},
                   {"refine",
-                   {{"moves_tried", result.refine.tried},
-                    {"moves_kept", result.refine.kept},
-                    {"error_before_percent", percent_of(result.refine.error_before, prepared.diagonal)},
-                    {"error_after_percent", percent_of(result.refine.error_after, prepared.diagonal)}}},
+                   {{"moves_tried", refine.tried},
+                    {"moves_kept", refine.kept},
+                    {"error_before_percent", percent_of(refine.error_before, prepared.diagonal)},
+                    {"error_after_percent", percent_of(refine.error_after, prepared.diagonal)}}},
                   {"converged", result.summary.converged},
                   {"stopped_by_max_iterations", result.summary.hit_max_iterations},
                   {"total_error", result.summary.error}};
@@ -197,6 +198,11 @@ void print_summary(const json& s, const Settings& settings) {
                 : s["converged"].get<bool>()               ? ""
                                              : " (error still changing: stopped after settling)")
             << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
+  const json& refine = s["refine"];
+  if (refine["moves_tried"].get<int>() > 0)
+    std::cout << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
+              << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
+              << refine["error_after_percent"] << " %\n";
   if (s.contains("eval"))
     std::cout << "error: epsilon " << s["eval"]["hausdorff_percent"]
               << " % of the diagonal (surface -> medial "
@@ -204,9 +210,8 @@ void print_summary(const json& s, const Settings& settings) {
               << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
   const json& t = s["seconds"];
   std::cout << "time (s): total " << text_of(t["total"], "%.2f");
-  const char* parts[] = {"read",   "clean",      "prepare", "shape",        "partition",
-                         "update", "projection", "split",   "refine",       "connectivity",
-                         "write"};
+  const char* parts[] = {"read",       "clean", "prepare", "shape",        "partition", "update",
+                         "projection", "split", "refine",  "connectivity", "write"};
   for (const char* part : parts)
     std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
   std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";

@@ -307,10 +307,10 @@ class Envelope {
     std::vector<std::uint64_t> sphere_keys;
     for (const Sphere& sphere : spheres_) sphere_keys.push_back(key_of(sphere));
     solid_keys_ = sphere_keys;
-    for (const auto& e : edges) solid_keys_.push_back(key_of(1, {sphere_keys[e[0]], sphere_keys[e[1]]}));
+    for (const auto& e : edges)
+      solid_keys_.push_back(key_of(1, {sphere_keys[e[0]], sphere_keys[e[1]]}));
     for (const auto& f : medial.faces)
-      solid_keys_.push_back(
-          key_of(2, {sphere_keys[f[0]], sphere_keys[f[1]], sphere_keys[f[2]]}));
+      solid_keys_.push_back(key_of(2, {sphere_keys[f[0]], sphere_keys[f[1]], sphere_keys[f[2]]}));
 
     for (const Sphere& s : spheres_) solid_boxes_.push_back(sphere_box(s.center, s.radius));
     for (const Cone& c : cones_) solid_boxes_.push_back(c.box());
@@ -340,7 +340,8 @@ class Envelope {
   // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle
   // (or some distance below `stop_below`: see Bvh::nearest).
   double boundary_distance(const Vec3& p, double stop_below = -kInfinity) const {
-    return piece_tree_->nearest(p, [&](int id) { return piece_distance(id, p); }, stop_below);
+    return piece_tree_->nearest(
+        p, [&](int id) { return piece_distance(id, p); }, stop_below);
   }
 
   int solid_count() const { return static_cast<int>(solid_keys_.size()); }
@@ -356,7 +357,8 @@ class Envelope {
   double piece_distance(int piece, const Vec3& p) const {
     const int spheres = static_cast<int>(spheres_.size());
     const int cones = static_cast<int>(cones_.size());
-    if (piece < spheres) return std::abs((p - spheres_[piece].center).norm() - spheres_[piece].radius);
+    if (piece < spheres)
+      return std::abs((p - spheres_[piece].center).norm() - spheres_[piece].radius);
     if (piece < spheres + cones) return std::abs(cones_[piece - spheres].signed_distance(p));
     const auto& t = triangles_[piece - spheres - cones];
     return point_triangle_distance(p, t[0], t[1], t[2]);
@@ -365,8 +367,8 @@ class Envelope {
   // The nearest piece to p and its distance.
   double nearest_piece(const Vec3& p, int& piece) const {
     piece = -1;
-    return piece_tree_->nearest(p, [&](int id) { return piece_distance(id, p); }, -kInfinity,
-                                &piece);
+    return piece_tree_->nearest(
+        p, [&](int id) { return piece_distance(id, p); }, -kInfinity, &piece);
   }
 
   // Whether p lies deeper than `tolerance` inside `solid`.
@@ -679,11 +681,14 @@ class ShapeDistance {
       points_->nearest(q, &squared);
       return std::sqrt(squared);
     }
-    return triangles_->nearest(q, [&](int face) {
-      const auto& f = shape_.faces[face];
-      return point_triangle_distance(q, shape_.points[f[0]], shape_.points[f[1]],
-                                     shape_.points[f[2]]);
-    }, stop_below, &near_face);
+    return triangles_->nearest(
+        q,
+        [&](int face) {
+          const auto& f = shape_.faces[face];
+          return point_triangle_distance(q, shape_.points[f[0]], shape_.points[f[1]],
+                                         shape_.points[f[2]]);
+        },
+        stop_below, &near_face);
   }
 
   const SurfaceInput& shape_;
@@ -775,15 +780,16 @@ std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, dou
 std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points) {
   const Envelope envelope(medial);
   std::vector<double> distances(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) distances[i] = envelope.boundary_distance(points[i]);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    distances[i] = envelope.boundary_distance(points[i]);
   return distances;
 }
 
 // What the last measured reconstruction left to reuse: distances and visibility depend only on
 // the primitives involved, which are recognised by their keys (Envelope::piece_key, solid_key).
-struct SurfaceSideCache {  // surface -> medial
-  std::vector<double> distance;        // of every surface sample, exact
-  std::vector<std::uint64_t> nearest;  // the key of the piece at that distance
+struct SurfaceSideCache {                    // surface -> medial
+  std::vector<double> distance;              // of every surface sample, exact
+  std::vector<std::uint64_t> nearest;        // the key of the piece at that distance
   std::unordered_set<std::uint64_t> pieces;  // keys of every piece then
 };
 
@@ -1005,9 +1011,8 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
       result.boundary_error = std::move(to_surface);
     }
     boundary = envelope.visible(finer, tolerance);
-    to_surface = distance(boundary.points, options.maxima_only
-                                               ? result.medial_to_surface_max - spacing
-                                               : -kInfinity);
+    to_surface = distance(
+        boundary.points, options.maxima_only ? result.medial_to_surface_max - spacing : -kInfinity);
     for (std::size_t i = 0; i < to_surface.size(); ++i) {
       if (to_surface[i] <= result.medial_to_surface_max) continue;
       result.medial_to_surface_max = to_surface[i];

@@ -46,7 +46,8 @@ std::vector<int> removal_order(const Skeletonizer& skeletonizer, int keep) {
   for (int v = 0; v < shape.size(); ++v) {
     const int own = labels[v];
     double best = std::numeric_limits<double>::infinity();
-    for (int other : adjacent[own]) best = std::min(best, vertex_energy(shape, v, spheres[other], lambda));
+    for (int other : adjacent[own])
+      best = std::min(best, vertex_energy(shape, v, spheres[other], lambda));
     cost[own] += best - vertex_energy(shape, v, spheres[own], lambda);
   }
   std::vector<int> order;
@@ -97,7 +98,6 @@ Generator generating_sphere(const MedialMesh& medial, const Vec3& p) {
   return best;
 }
 
-
 // Whether the larger one-sided error is surface -> medial (a part left uncovered) rather than
 // medial -> surface (the reconstruction bulging out).
 bool aims_at_uncovered(const EvalResult& now) {
@@ -115,10 +115,11 @@ int add_and_remove(Skeletonizer& skeletonizer, const EvalResult& now) {
   // A surface point far from the reconstruction gets the medial ball touching it; a bulge of
   // the reconstruction gets the medial sphere under the interpolated sphere that makes it.
   Generator bulge;
-  if (!uncovered) bulge = generating_sphere(skeletonizer.medial_mesh(), now.medial_to_surface_worst);
-  const int added = uncovered
-                        ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
-                        : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
+  if (!uncovered)
+    bulge = generating_sphere(skeletonizer.medial_mesh(), now.medial_to_surface_worst);
+  const int added =
+      uncovered ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
+                : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
   skeletonizer.freeze(added);
   const SkeletonizerState with_added = skeletonizer.state();
   // A bulge: its own spheres may go first (the new one takes their place).
@@ -135,7 +136,8 @@ int add_and_remove(Skeletonizer& skeletonizer, const EvalResult& now) {
       if (skeletonizer.labels()[v] == removed) members.push_back(shape.points[v]);
     skeletonizer.remove_sphere(removed);
     const std::vector<double> left = envelope_distances(skeletonizer.medial_mesh(), members);
-    if (left.empty() || *std::max_element(left.begin(), left.end()) < kRemovalMargin * now.hausdorff)
+    if (left.empty() ||
+        *std::max_element(left.begin(), left.end()) < kRemovalMargin * now.hausdorff)
       return removed;
     skeletonizer.restore(with_added);
   }
@@ -160,18 +162,26 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   coarse.refined_samples = 8;
   coarse.maxima_only = true;
   const Evaluator evaluator(surface, coarse);
-  const auto measure = [&] { return evaluator(skeletonizer.medial_mesh()); };
+  // A measurement, and the components of the skeleton measured: a move must not split it.
+  int components = 0;
+  const auto measure = [&] {
+    const MedialMesh medial = skeletonizer.medial_mesh();
+    components = component_count(medial);
+    return evaluator(medial);
+  };
   EvalResult best = measure();
+  const int best_components = components;
   report.error_before = best.hausdorff;
   SkeletonizerState best_state = skeletonizer.state();
   // Spheres placed by kept moves stay frozen until the end, so that no later move undoes them.
   std::vector<bool> placed(skeletonizer.spheres().size(), false);
   int small_gains = 0;  // kept moves in a row that gained less than min_gain
   while (report.tried < options.max_moves) {
-    if (progress && !progress(Progress{Progress::Phase::Refining, report.tried,
-                                       static_cast<int>(skeletonizer.spheres().size()),
-                                       skeletonizer.options().target_spheres, best.hausdorff / best.diagonal,
-                                       report.tried + 1, options.max_moves})) {
+    if (progress &&
+        !progress(Progress{Progress::Phase::Refining, report.tried,
+                           static_cast<int>(skeletonizer.spheres().size()),
+                           skeletonizer.options().target_spheres, best.hausdorff / best.diagonal,
+                           report.tried + 1, options.max_moves})) {
       report.cancelled = true;
       break;
     }
@@ -180,14 +190,17 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
     ++report.tried;
     // First the move alone (the rest stays as it is); if that does not help, the neighbours
     // adapt to it: a few steps and the final refits, the new sphere held in place.
+    const auto better = [&](const EvalResult& trial) {
+      return trial.hausdorff < best.hausdorff && components <= best_components;
+    };
     EvalResult trial = measure();
-    if (!(trial.hausdorff < best.hausdorff)) {
+    if (!better(trial)) {
       for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
       for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
         skeletonizer.final_refit(round);
       trial = measure();
     }
-    if (!(trial.hausdorff < best.hausdorff)) {
+    if (!better(trial)) {
       skeletonizer.restore(best_state);
       break;
     }

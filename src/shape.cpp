@@ -188,7 +188,6 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   return shape;
 }
 
-
 Shape coarsen_shape(const Shape& shape, std::size_t budget) {
   // The dominant axis and sign of each normal: opposite sides of a thin part fall apart.
   std::vector<std::uint8_t> direction(shape.size());

@@ -310,8 +310,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
 int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled) {
   const std::size_t vertices = shape_.size();
   const std::size_t target = options_.target_spheres;
-  const std::size_t budget =
-      std::max(vertices / kCoarseShare, kCoarseVerticesPerSphere * target);
+  const std::size_t budget = std::max(vertices / kCoarseShare, kCoarseVerticesPerSphere * target);
   if (!options_.coarse_start || target == 0 || spheres_.size() != 1 ||
       budget > kCoarseAtMost * vertices)
     return 0;
@@ -385,7 +384,8 @@ void Skeletonizer::set_target_spheres(int count) {
   SkeletonizerOptions changed = options_;
   changed.target_spheres = count;
   changed.error_threshold = 0.0;
-  if (count < 1) throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(count) + ")");
+  if (count < 1)
+    throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(count) + ")");
   changed.validate();
   if (count > shape_.size())
     throw InvalidOption("spheres", "must be at most the number of points (" +

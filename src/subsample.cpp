@@ -45,7 +45,8 @@ std::uint8_t group_of(const std::vector<std::uint8_t>& groups, std::size_t i) {
 std::size_t occupied_cells(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& groups,
                            const Grid& grid, std::vector<std::uint64_t>& keys) {
   keys.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) keys[i] = grid.key(points[i], group_of(groups, i));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    keys[i] = grid.key(points[i], group_of(groups, i));
   std::sort(keys.begin(), keys.end());
   return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
@@ -69,8 +70,8 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
   const Box box = bounding_box(points);
   const Vec3 sizes = box.sizes();
   // First guess: a closed surface has about half the area of its bounding box.
-  const double box_area = 2.0 * (sizes.x() * sizes.y() + sizes.y() * sizes.z() +
-                                 sizes.z() * sizes.x());
+  const double box_area =
+      2.0 * (sizes.x() * sizes.y() + sizes.y() * sizes.z() + sizes.z() * sizes.x());
   const double finest = sizes.maxCoeff() / kMaxCells;
   Grid grid{box.min(), std::max(std::sqrt(0.5 * box_area / budget), finest)};
   if (!(grid.leaf > 0.0)) grid.leaf = 1.0;  // a flat or degenerate box: any size will do
@@ -85,11 +86,10 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
     if (fill <= 1.0 && fill >= kLowestFill) break;
     if (attempt > 0) {
       if (count == previous_count && fill < kLowestFill) break;  // coincident points: no finer
-      exponent = count == previous_count
-                     ? 0.5  // cells finer than the points: take a big step
-                     : std::clamp(std::log(double(previous_count) / count) /
-                                      std::log(grid.leaf / previous_leaf),
-                                  0.5, 3.0);
+      exponent = count == previous_count ? 0.5  // cells finer than the points: take a big step
+                                         : std::clamp(std::log(double(previous_count) / count) /
+                                                          std::log(grid.leaf / previous_leaf),
+                                                      0.5, 3.0);
     }
     previous_leaf = grid.leaf;
     previous_count = count;
@@ -118,7 +118,8 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
   }
   std::sort(result.kept.begin(), result.kept.end());
   std::vector<int> position(n, -1);
-  for (std::size_t j = 0; j < result.kept.size(); ++j) position[result.kept[j]] = static_cast<int>(j);
+  for (std::size_t j = 0; j < result.kept.size(); ++j)
+    position[result.kept[j]] = static_cast<int>(j);
   result.representative.resize(n);
   for (std::size_t i = 0; i < n; ++i) result.representative[i] = position[chosen[i]];
   result.leaf = grid.leaf;

@@ -418,7 +418,8 @@ TEST(Eval, BoundarySamplesAndTheirDistancesAreExposed) {
   write_medial_mesh((dir / "medial.ma").string(), medial);
   const std::string command = std::string(VMAS_CLI) + " eval " + (dir / "cloud.off").string() +
                               " " + (dir / "medial.ma").string() + " --medial-errors " +
-                              (dir / "errors.txt").string() + " --spacing 0.01 > " + (dir / "out").string();
+                              (dir / "errors.txt").string() + " --spacing 0.01 > " +
+                              (dir / "out").string();
   ASSERT_EQ(std::system(command.c_str()), 0);
   std::ifstream in(dir / "errors.txt");
   std::string line, summary;
@@ -505,8 +506,7 @@ TEST(Eval, AnEvaluatorMeasuringOneChangeAfterAnotherMatchesFreshEvaluations) {
   EXPECT_EQ(maxima.medial_to_surface_worst, full.medial_to_surface_worst);
   EXPECT_TRUE(maxima.vertex_error.empty());
   // The worst surface point is as far from the reconstruction as the maximum says.
-  const double at_worst =
-      envelope_distances(sequence[2], {full.surface_to_medial_worst}).front();
+  const double at_worst = envelope_distances(sequence[2], {full.surface_to_medial_worst}).front();
   EXPECT_DOUBLE_EQ(at_worst, full.surface_to_medial_max);
 }
 

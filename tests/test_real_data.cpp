@@ -6,9 +6,9 @@
 #include <numeric>
 #include <string>
 
+#include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"
-#include "vmas/eval.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 

@@ -200,7 +200,8 @@ TEST(Subsample, KeepsAboutTheBudgetOnePointPerCellAndMapsEveryPointToANearbyOne)
     EXPECT_LE((box.points[i] - box.points[thin.kept[r]]).norm(), cell_diagonal) << i;
   }
   // A kept point stands for itself, and no two kept points share a cell.
-  for (std::size_t j = 0; j < thin.kept.size(); ++j) EXPECT_EQ(thin.representative[thin.kept[j]], j);
+  for (std::size_t j = 0; j < thin.kept.size(); ++j)
+    EXPECT_EQ(thin.representative[thin.kept[j]], j);
   std::set<std::array<long, 3>> cells;
   const Vec3 origin = bounding_box(box.points).min();
   for (int k : thin.kept) {

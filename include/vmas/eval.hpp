@@ -44,10 +44,10 @@ struct EvalResult {
   double surface_to_medial_mean = 0.0;
   double medial_to_surface_max = 0.0;
   double medial_to_surface_mean = 0.0;
-  double hausdorff = 0.0;                 // max of the two one-sided maxima
+  double hausdorff = 0.0;                       // max of the two one-sided maxima
   Vec3 surface_to_medial_worst = Vec3::Zero();  // where each one-sided maximum was found:
   Vec3 medial_to_surface_worst = Vec3::Zero();  //   a surface sample, a boundary sample
-  std::size_t surface_sample_count = 0;   // input points + random surface samples
+  std::size_t surface_sample_count = 0;         // input points + random surface samples
   std::size_t boundary_sample_count = 0;  // visible uniform samples on the primitives' boundaries
   // Surface -> medial distance of every input point (for colour maps).
   std::vector<double> vertex_error;

@@ -4,17 +4,18 @@
 // budget can leave one feature uncovered, or one junction bulging out, however good the average.
 // This stage measures the reconstruction (vmas::evaluate) and tries to move the sphere whose
 // removal costs the least energy to the worst-served place, re-settling the optimisation after
-// each move; a move is kept only when the measured error drops. The sphere count never changes.
+// each move; a move is kept only when the measured error drops and the skeleton does not fall
+// apart into more components. The sphere count never changes.
 #include "vmas/skeletonizer.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
 
 struct RefineOptions {
-  int max_moves = 12;     // moves tried at most (0: the stage is off)
+  int max_moves = 12;      // moves tried at most (0: the stage is off)
   double min_gain = 0.01;  // stop after two moves in a row that lowered the error by less than
                            // this fraction
-  void validate() const;  // throws InvalidOption
+  void validate() const;   // throws InvalidOption
 };
 
 struct RefineReport {

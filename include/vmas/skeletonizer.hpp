@@ -99,7 +99,7 @@ class Skeletonizer {
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
   // whose cluster stays below min_cluster_size is moved by the next step().
-  int add_sphere_at(int vertex);  // the shrinking ball at `vertex`; returns its id
+  int add_sphere_at(int vertex);         // the shrinking ball at `vertex`; returns its id
   int add_sphere(const Sphere& sphere);  // as given (e.g. a projected one); returns its id
   void remove_sphere(int id);
   void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
@@ -131,7 +131,7 @@ class Skeletonizer {
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
-  void fit_and_project(double lambda);  // update (+ projection) of every unfrozen sphere
+  void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
   void check_id(int id) const;
 
   Shape shape_;

@@ -16,8 +16,8 @@
 #include "vmas/clean.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"
-#include "vmas/shape.hpp"
 #include "vmas/refine.hpp"
+#include "vmas/shape.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/types.hpp"
 
