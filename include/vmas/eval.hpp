@@ -61,7 +61,9 @@ struct EvalResult {
 };
 
 // evaluate() for many medial meshes of one shape: the shape's samples and its distance structure
-// are built once. Keeps a reference to `shape`. Results are those of evaluate().
+// are built once, and what was measured of primitives that come back unchanged (same spheres)
+// is re-used. Results are those of evaluate(). Keeps a reference to `shape`; one call at a time
+// (calls update what it keeps).
 class Evaluator {
  public:
   // Throws as evaluate() does for the shape and the options.
