@@ -199,10 +199,16 @@ void Skeletonizer::fit_and_project(double lambda) {
   energies_current_ = false;
 }
 
+int Skeletonizer::sphere_cap() const {
+  // More spheres than points would leave clusters empty: with an error threshold on a tiny or
+  // noisy cloud the count climbed to max_spheres (5000 spheres for 40 points).
+  return std::min(options_.max_spheres, shape_.size());
+}
+
 bool Skeletonizer::wants_more_spheres() const {
   const int count = static_cast<int>(spheres_.size());
   if (options_.target_spheres > 0) return count < options_.target_spheres;
-  if (count >= options_.max_spheres) return false;
+  if (count >= sphere_cap()) return false;
   const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
   for (int c = 0; c < count; ++c)
     if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
@@ -212,7 +218,7 @@ bool Skeletonizer::wants_more_spheres() const {
 int Skeletonizer::split() {
   const auto start = Clock::now();
   const int count = static_cast<int>(spheres_.size());
-  const int cap = options_.target_spheres > 0 ? options_.target_spheres : options_.max_spheres;
+  const int cap = options_.target_spheres > 0 ? options_.target_spheres : sphere_cap();
   // An error target may need thousands of spheres: it grows by the fraction alone, or a fine
   // threshold would take hundreds of rounds.
   // A large count target grows by a share of the count too, or 1000 spheres took a hundred

@@ -82,6 +82,21 @@ TEST(Skeletonizer, ErrorThresholdStopsSplitting) {
   for (double e : fine.cluster_errors()) EXPECT_LE(e, limit * 1.0001);
 }
 
+// A threshold finer than the data allows stops at one sphere per point, not at max_spheres
+// (40 random points once gave 5000 spheres).
+TEST(Skeletonizer, ErrorThresholdNeverGivesMoreSpheresThanPoints) {
+  const test::Sample few = test::sample_sphere(Vec3::Zero(), 1.0, 40, 9);
+  SurfaceInput cloud;
+  cloud.points = test::with_noise(few.points, 0.2, 3);
+  cloud.normals = few.normals;
+  SkeletonizerOptions options;
+  options.error_threshold = 1e-4;
+  Skeletonizer skeletonizer(build_shape(cloud, {}), options);
+  skeletonizer.run();
+  EXPECT_LE(skeletonizer.spheres().size(), 40u);
+  EXPECT_GE(skeletonizer.spheres().size(), 2u);
+}
+
 TEST(Skeletonizer, DynamicEditingBetweenSteps) {
   Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(5));
   skeletonizer.run();

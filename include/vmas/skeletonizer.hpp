@@ -22,7 +22,8 @@ struct SkeletonizerOptions {
   int target_spheres = 0;        // stop splitting at this many spheres (0: no count target)
   double error_threshold = 0.0;  // split until every cluster's RMS error √E(C) (eq. 12) is below
                                  // this, relative to the diagonal (0: no error target)
-  int max_spheres = 5000;        // hard cap when only an error threshold is given
+  int max_spheres = 5000;        // hard cap when only an error threshold is given (and never
+                                 // more spheres than points)
   int max_iterations = 3000;     // partition + update steps in run()
   double convergence = 2e-4;     // converged when the total error changes by less (relative)
   int split_interval = 10;       // split at least every this many steps while spheres are missing
@@ -130,6 +131,7 @@ class Skeletonizer {
   void repartition();                   // partition, then refresh members and errors
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
+  int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
   void check_id(int id) const;
