@@ -145,12 +145,10 @@ TEST(Refine, KeepsOnlyMovesThatLowerTheMeasuredErrorAndTheExactCount) {
   options.refine.max_moves = 0;
   const Result plain = skeletonize(box, options);
   EXPECT_EQ(plain.refine.tried, 0);
-  EXPECT_EQ(plain.seconds.refine, 0.0);
   ASSERT_EQ(refined.medial_mesh.spheres.size(), 12u);
   EXPECT_GE(refined.refine.kept, 1);
   EXPECT_LE(refined.refine.kept, refined.refine.tried);
   EXPECT_LT(refined.refine.error_after, refined.refine.error_before);
-  EXPECT_GT(refined.seconds.refine, 0.0);
   // The same metric from outside (vmas eval): lower too.
   EXPECT_LT(evaluate(box, refined.medial_mesh).hausdorff,
             evaluate(box, plain.medial_mesh).hausdorff);
