@@ -337,11 +337,10 @@ class Envelope {
   Envelope(const Envelope&) = delete;  // the trees refer to the box vectors
   Envelope& operator=(const Envelope&) = delete;
 
-  // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle
-  // (or some distance below `stop_below`: see Bvh::nearest).
-  double boundary_distance(const Vec3& p, double stop_below = -kInfinity) const {
-    return piece_tree_->nearest(
-        p, [&](int id) { return piece_distance(id, p); }, stop_below);
+  // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle.
+  double boundary_distance(const Vec3& p) const {
+    int piece;
+    return nearest_piece(p, piece);
   }
 
   int solid_count() const { return static_cast<int>(solid_keys_.size()); }
@@ -377,12 +376,15 @@ class Envelope {
   }
 
   // A solid other than the owner of `piece` that p lies deeper than `tolerance` inside; -1 when
-  // none does.
-  int hider(const Vec3& p, int piece, double tolerance) const {
+  // none does. `likely`: a solid to try first (neighbouring samples are mostly hidden by the same
+  // one).
+  int hider(const Vec3& p, int piece, double tolerance, int likely = -1) const {
     const int owner = owner_solid(piece);
+    const auto hides = [&](int id) { return id != owner && deep_inside(id, p, tolerance); };
+    if (likely >= 0 && hides(likely)) return likely;
     int found = -1;
     solid_tree_->any_containing(p, [&](int id) {
-      if (id == owner || !deep_inside(id, p, tolerance)) return false;
+      if (!hides(id)) return false;
       found = id;
       return true;
     });
@@ -420,24 +422,12 @@ class Envelope {
     std::vector<char> keep(samples.points.size());
 #pragma omp parallel
     {
-      // Neighbouring samples are mostly hidden by the same solid: it is tried first.
       int last_hider = -1;
 #pragma omp for schedule(dynamic, 4096)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
-        const Vec3& p = samples.points[i];
-        const int owner = owner_solid(samples.pieces[i]);
-        const auto hides = [&](int id) {
-          return id != owner && solid_signed_distance(id, p) < -tolerance;
-        };
-        if (last_hider >= 0 && hides(last_hider)) {
-          keep[i] = false;
-          continue;
-        }
-        keep[i] = !solid_tree_->any_containing(p, [&](int id) {
-          if (!hides(id)) return false;
-          last_hider = id;
-          return true;
-        });
+        const int hider_found = hider(samples.points[i], samples.pieces[i], tolerance, last_hider);
+        keep[i] = hider_found < 0;
+        if (hider_found >= 0) last_hider = hider_found;
       }
     }
     BoundarySamples result;
@@ -868,7 +858,7 @@ void find_fresh(int count, const std::unordered_set<std::uint64_t>& known, KeyOf
 
 }  // namespace
 
-EvalResult Evaluator::operator()(const MedialMesh& medial) const {
+EvalResult Evaluator::operator()(const MedialMesh& medial) {
   const EvalOptions& options = impl_->options;
   const std::vector<Vec3>& samples = impl_->samples;
   const ShapeDistance& distance = impl_->distance;
@@ -879,13 +869,14 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   // Surface -> medial. A sample whose nearest piece is still there is at most as far as before,
   // and only the new pieces can be nearer.
   SurfaceSideCache& surface_side = impl_->surface_side;
+  const bool reuse = !surface_side.distance.empty();
   FreshPrimitives fresh_pieces;
-  find_fresh(
-      envelope.piece_count(), surface_side.pieces, [&](int id) { return envelope.piece_key(id); },
-      [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
+  if (reuse)
+    find_fresh(
+        envelope.piece_count(), surface_side.pieces, [&](int id) { return envelope.piece_key(id); },
+        [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
   std::unordered_set<std::uint64_t> pieces_now;
   for (int id = 0; id < envelope.piece_count(); ++id) pieces_now.insert(envelope.piece_key(id));
-  const bool reuse = !surface_side.distance.empty();
   surface_side.distance.resize(samples.size());
   surface_side.nearest.resize(samples.size());
   const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
@@ -927,25 +918,28 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
   for (int id = 0; id < envelope.solid_count(); ++id) solids_now.insert(envelope.solid_key(id));
   std::unordered_map<std::uint64_t, PieceSamples> boundary_side;
   std::vector<std::pair<PieceSamples*, int>> by_piece;  // in piece order
+  std::vector<std::pair<int, int>> flat;                // (index into by_piece, sample) to look at
   for (int piece = 0; piece < envelope.piece_count(); ++piece) {
     const std::uint64_t key = envelope.piece_key(piece);
-    auto known = impl_->boundary_side.find(key);
-    PieceSamples& entry = boundary_side[key];
+    const auto [entry, first] = boundary_side.try_emplace(key);
+    by_piece.emplace_back(&entry->second, piece);
+    // Two coincident spheres give identical pieces: their samples are looked at once (a sample
+    // on one is not inside the other).
+    if (!first) continue;
+    const auto known = impl_->boundary_side.find(key);
     if (known != impl_->boundary_side.end()) {
-      entry = std::move(known->second);
+      entry->second = std::move(known->second);
     } else {
       BoundarySamples sampled;
       envelope.sample_piece(piece, spacing, sampled);
-      entry.points = std::move(sampled.points);
-      entry.hider.assign(entry.points.size(), kUnknown);
-      entry.distance.assign(entry.points.size(), std::numeric_limits<double>::quiet_NaN());
+      entry->second.points = std::move(sampled.points);
+      entry->second.hider.assign(entry->second.points.size(), kUnknown);
+      entry->second.distance.assign(entry->second.points.size(),
+                                    std::numeric_limits<double>::quiet_NaN());
     }
-    by_piece.emplace_back(&entry, piece);
+    for (int j = 0; j < static_cast<int>(entry->second.points.size()); ++j)
+      flat.emplace_back(static_cast<int>(by_piece.size()) - 1, j);
   }
-  std::vector<std::pair<int, int>> flat;  // (index into by_piece, sample)
-  for (int k = 0; k < static_cast<int>(by_piece.size()); ++k)
-    for (int j = 0; j < static_cast<int>(by_piece[k].first->points.size()); ++j)
-      flat.emplace_back(k, j);
   const auto flat_count = static_cast<std::ptrdiff_t>(flat.size());
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
@@ -976,15 +970,18 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) const {
       boundary.pieces.push_back(piece);
       distances.push_back(&entry->distance[j]);
     }
-  std::vector<Vec3> unmeasured;
-  for (std::size_t i = 0; i < distances.size(); ++i)
-    if (std::isnan(*distances[i])) unmeasured.push_back(boundary.points[i]);
+  std::vector<Vec3> unmeasured;  // visible samples without a distance yet, each once
+  std::vector<double*> slots;
+  for (auto& [key, entry] : boundary_side)
+    for (std::size_t j = 0; j < entry.points.size(); ++j) {
+      if (entry.hider[j] != kNone || !std::isnan(entry.distance[j])) continue;
+      unmeasured.push_back(entry.points[j]);
+      slots.push_back(&entry.distance[j]);
+    }
   const std::vector<double> measured = distance(unmeasured);
+  for (std::size_t k = 0; k < slots.size(); ++k) *slots[k] = measured[k];
   std::vector<double> to_surface(distances.size());
-  for (std::size_t i = 0, next = 0; i < distances.size(); ++i) {
-    if (std::isnan(*distances[i])) *distances[i] = measured[next++];
-    to_surface[i] = *distances[i];
-  }
+  for (std::size_t i = 0; i < distances.size(); ++i) to_surface[i] = *distances[i];
   impl_->boundary_side = std::move(boundary_side);
   impl_->solids = std::move(solids_now);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);

@@ -104,19 +104,18 @@ bool aims_at_uncovered(const EvalResult& now) {
   return now.surface_to_medial_max >= now.medial_to_surface_max;
 }
 
-// Adds a sphere where the reconstruction is worst and removes the cheapest sphere whose removal
-// leaves its vertices covered (energy is an average: the sphere of a thin part can be cheap while
-// its removal opens a hole). The new sphere is frozen and comes last. Returns the removed
-// sphere's id; -1 (state unchanged) when no sphere can go.
-int add_and_remove(Skeletonizer& skeletonizer, const EvalResult& now) {
+// Adds a sphere where the reconstruction (`medial`, measured as `now`) is worst and removes the
+// cheapest sphere whose removal leaves its vertices covered (energy is an average: the sphere of a
+// thin part can be cheap while its removal opens a hole). The new sphere is frozen and comes last.
+// Returns the removed sphere's id; -1 (state unchanged) when no sphere can go.
+int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const EvalResult& now) {
   const bool uncovered = aims_at_uncovered(now);
   const MedialProjector& projector = skeletonizer.projector();
   const SkeletonizerState before = skeletonizer.state();
   // A surface point far from the reconstruction gets the medial ball touching it; a bulge of
   // the reconstruction gets the medial sphere under the interpolated sphere that makes it.
   Generator bulge;
-  if (!uncovered)
-    bulge = generating_sphere(skeletonizer.medial_mesh(), now.medial_to_surface_worst);
+  if (!uncovered) bulge = generating_sphere(medial, now.medial_to_surface_worst);
   const int added =
       uncovered ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
                 : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
@@ -161,15 +160,18 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   coarse.boundary_spacing = 0.016;
   coarse.refined_samples = 8;
   coarse.maxima_only = true;
-  const Evaluator evaluator(surface, coarse);
-  // A measurement, and the components of the skeleton measured: a move must not split it.
+  Evaluator evaluator(surface, coarse);
+  // A measurement of the skeleton as it is; kept with its medial mesh and its components (a move
+  // must not split the skeleton).
+  MedialMesh medial;
   int components = 0;
   const auto measure = [&] {
-    const MedialMesh medial = skeletonizer.medial_mesh();
+    medial = skeletonizer.medial_mesh();
     components = component_count(medial);
     return evaluator(medial);
   };
   EvalResult best = measure();
+  MedialMesh best_medial = medial;
   const int best_components = components;
   report.error_before = best.hausdorff;
   SkeletonizerState best_state = skeletonizer.state();
@@ -185,7 +187,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
       report.cancelled = true;
       break;
     }
-    const int removed = add_and_remove(skeletonizer, best);
+    const int removed = add_and_remove(skeletonizer, best_medial, best);
     if (removed < 0) break;
     ++report.tried;
     // First the move alone (the rest stays as it is); if that does not help, the neighbours
@@ -215,6 +217,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
         aimed_uncovered ? trial.surface_to_medial_max : trial.medial_to_surface_max;
     const bool small_gain = aimed_after > (1.0 - options.min_gain) * aimed_before;
     best = std::move(trial);
+    best_medial = medial;
     best_state = skeletonizer.state();
     ++report.kept;
     small_gains = small_gain ? small_gains + 1 : 0;

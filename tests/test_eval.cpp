@@ -481,7 +481,7 @@ TEST(Eval, AnEvaluatorMeasuringOneChangeAfterAnotherMatchesFreshEvaluations) {
     EvalOptions options;
     options.boundary_spacing = 0.01;
     options.maxima_only = maxima_only;
-    const Evaluator evaluator(mesh, options);
+    Evaluator evaluator(mesh, options);
     for (std::size_t k = 0; k < sequence.size(); ++k) {
       const EvalResult reused = evaluator(sequence[k]);
       const EvalResult fresh = evaluate(mesh, sequence[k], options);
@@ -508,6 +508,26 @@ TEST(Eval, AnEvaluatorMeasuringOneChangeAfterAnotherMatchesFreshEvaluations) {
   // The worst surface point is as far from the reconstruction as the maximum says.
   const double at_worst = envelope_distances(sequence[2], {full.surface_to_medial_worst}).front();
   EXPECT_DOUBLE_EQ(at_worst, full.surface_to_medial_max);
+}
+
+// Coincident spheres give identical primitives: measured once, but counted as fresh evaluation
+// counts them.
+TEST(Eval, AnEvaluatorHandlesCoincidentSpheresAsFreshEvaluationsDo) {
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
+  MedialMesh medial = random_medial(7);
+  medial.spheres.push_back(medial.spheres[2]);  // sphere 2 twice, with its own edge
+  medial.edges.push_back({static_cast<int>(medial.spheres.size()) - 1, 4});
+  EvalOptions options;
+  options.boundary_spacing = 0.01;
+  Evaluator evaluator(mesh, options);
+  for (const MedialMesh& m : {random_medial(7), medial, medial}) {
+    const EvalResult reused = evaluator(m);
+    const EvalResult fresh = evaluate(mesh, m, options);
+    EXPECT_EQ(reused.hausdorff, fresh.hausdorff);
+    EXPECT_EQ(reused.medial_to_surface_mean, fresh.medial_to_surface_mean);
+    EXPECT_EQ(reused.surface_to_medial_mean, fresh.surface_to_medial_mean);
+    EXPECT_EQ(reused.boundary_sample_count, fresh.boundary_sample_count);
+  }
 }
 
 TEST(Eval, BadInputsThrow) {

@@ -72,7 +72,7 @@ class Evaluator {
   Evaluator(const Evaluator&) = delete;
   Evaluator& operator=(const Evaluator&) = delete;
   // Throws as evaluate() does for the medial mesh.
-  EvalResult operator()(const MedialMesh& medial) const;
+  EvalResult operator()(const MedialMesh& medial);
 
  private:
   struct Impl;
