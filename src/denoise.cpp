@@ -6,8 +6,6 @@
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/mls.h>
-
-#include <flann/flann.hpp>
 // The PCL classes used here are instantiated here, not taken from PCL's libraries: libpcl_surface
 // links VTK (~60 libraries), and libpcl_filters, _sample_consensus, _search and _kdtree carry
 // ~60 000 symbol relocations; loading them took 0.04-0.1 s at every start of vmas, a third of a
@@ -30,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "flann_query.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -50,12 +49,9 @@ template class pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal>;
 namespace vmas {
 namespace {
 
-// pcl::search::KdTree's answers, without its cost: FLANN opens an OpenMP region for every call,
-// even for one query, and each region ends with a futex system call (~400 000 of them for the
-// outlier removal and smoothing of a noisy 30 000-point cloud: 0.3 s of system time, and the
-// team set-ups). Same FLANN tree (single KD-tree, 15 points per leaf, float coordinates), same
-// result sets and ordering as FLANN's knnSearch / radiusSearch for one query, so the same
-// neighbours. Dense clouds only (vmas's never hold NaN points); no indices.
+// pcl::search::KdTree's answers without FLANN's region per query (flann_query.hpp): the same
+// FLANN tree as pcl::KdTreeFLANN builds (single KD-tree, 15 points per leaf, float coordinates),
+// so the same neighbours. Dense clouds only (vmas's never hold NaN points); no indices.
 class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
  public:
   using Index = ::flann::KDTreeSingleIndex<::flann::L2_Simple<float>>;
@@ -79,22 +75,10 @@ class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
     const std::size_t wanted = std::min<std::size_t>(k, input_->size());
     indices.resize(wanted);
     squared_distances.resize(wanted);
-    if (wanted == 0) return 0;
-    ::flann::SearchParams params(-1, 0.0f);
     std::vector<std::size_t> found(wanted);
-    const auto search = [&](auto& result) {
-      result.clear();
-      index_->findNeighbors(result, point.data, params);
-      const std::size_t n = std::min(result.size(), wanted);
-      if (n > 0) result.copy(found.data(), squared_distances.data(), n, params.sorted);
-    };
-    if (wanted > KNN_HEAP_THRESHOLD) {
-      ::flann::KNNResultSet2<float> result(wanted);
-      search(result);
-    } else {
-      ::flann::KNNSimpleResultSet<float> result(wanted);
-      search(result);
-    }
+    if (wanted > 0)
+      flann_query::k_nearest(*index_, point.data, wanted, found.data(), squared_distances.data(),
+                             ::flann::SearchParams(-1, 0.0f));
     std::copy(found.begin(), found.end(), indices.begin());
     return static_cast<int>(wanted);
   }
@@ -102,28 +86,11 @@ class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
   // As pcl::KdTreeFLANN::radiusSearch (sorted as the constructor says).
   int radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& indices,
                    std::vector<float>& squared_distances, unsigned int max_nn = 0) const override {
-    ::flann::SearchParams params(-1, 0.0f, sorted_results_);
-    const std::size_t total = input_->size();
-    const bool all = max_nn == 0 || max_nn >= total;
-    const float squared_radius = static_cast<float>(radius * radius);
     std::vector<std::size_t> found;
-    std::size_t count = 0;
-    const auto search = [&](auto& result, std::size_t cap) {
-      result.clear();
-      index_->findNeighbors(result, point.data, params);
-      count = result.size();
-      const std::size_t kept = std::min(count, cap);
-      found.resize(kept);
-      squared_distances.resize(kept);
-      if (kept > 0) result.copy(found.data(), squared_distances.data(), kept, params.sorted);
-    };
-    if (all) {
-      ::flann::RadiusResultSet<float> result(squared_radius);
-      search(result, total);
-    } else {
-      ::flann::KNNRadiusResultSet<float> result(squared_radius, max_nn);
-      search(result, max_nn);
-    }
+    const std::size_t count =
+        flann_query::within_radius(*index_, point.data, static_cast<float>(radius * radius),
+                                   max_nn >= input_->size() ? 0 : max_nn, found, squared_distances,
+                                   ::flann::SearchParams(-1, 0.0f, sorted_results_));
     indices.assign(found.begin(), found.end());
     return static_cast<int>(count);
   }

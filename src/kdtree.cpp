@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "flann_query.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -254,24 +255,9 @@ void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,
   const double q[3] = {query.x(), query.y(), query.z()};
   flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
   params.sorted = true;
-  // What knnSearch does for one query, without the OpenMP region it opens on every call (a
-  // region per query cost more than the search: 44 ms of the noise estimate's 50 on a 5 000-point
-  // mesh).
   std::vector<std::size_t> found(wanted);
-  std::size_t n = 0;
-  const auto search = [&](auto& result) {
-    result.clear();
-    impl_->index->findNeighbors(result, q, params);
-    n = std::min<std::size_t>(result.size(), wanted);
-    result.copy(found.data(), squared_distances.data(), n, params.sorted);
-  };
-  if (wanted > KNN_HEAP_THRESHOLD) {
-    flann::KNNResultSet2<double> result(wanted);
-    search(result);
-  } else {
-    flann::KNNSimpleResultSet<double> result(wanted);
-    search(result);
-  }
+  const std::size_t n = flann_query::k_nearest(*impl_->index, q, found.size(), found.data(),
+                                               squared_distances.data(), params);
   for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<int>(found[i]);
 }
 
