@@ -409,6 +409,12 @@ void Skeletonizer::set_lambda(double lambda) {
 }
 
 void Skeletonizer::restore(const SkeletonizerState& state) {
+  const int count = static_cast<int>(state.spheres.size());
+  if (count < 1 || static_cast<int>(state.frozen.size()) != count ||
+      static_cast<int>(state.labels.size()) != shape_.size() ||
+      std::any_of(state.labels.begin(), state.labels.end(),
+                  [&](int label) { return label < 0 || label >= count; }))
+    throw InvalidOption("not a state of this skeletonizer's shape");
   spheres_ = state.spheres;
   frozen_ = state.frozen;
   labels_ = state.labels;

@@ -111,7 +111,8 @@ class Skeletonizer {
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
   SkeletonizerState state() const { return {spheres_, frozen_, labels_}; }
-  void restore(const SkeletonizerState& state);  // a state of this skeletonizer's shape
+  // A state of this skeletonizer (InvalidOption when it does not fit its shape).
+  void restore(const SkeletonizerState& state);
 
   MedialMesh medial_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }
