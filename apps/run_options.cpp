@@ -45,7 +45,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
        "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
       ("max-spheres", po::value(&values.options.run.max_spheres)->default_value(defaults.run.max_spheres),
-       "with --error: never more spheres than this (also the largest --spheres)")
+       "with --error: never more spheres than this, nor than usable points (also the largest "
+       "--spheres)")
       ("lambda,l", po::value(&values.options.run.lambda)->default_value(defaults.run.lambda, "0.2"),
        "weight of the point-sphere term against the plane-sphere (SQEM) term")
       ("final-lambda", po::value(&values.options.run.final_lambda)
