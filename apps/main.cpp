@@ -60,8 +60,9 @@ constexpr const char* kUsage =
 void wait_passively_at_barriers(int, char**, char**) {
   setenv("OMP_WAIT_POLICY", "passive", /*replace=*/0);
 }
-__attribute__((section(".preinit_array"), used)) void (*const kWaitPassivelyAtBarriers)(
-    int, char**, char**) = &wait_passively_at_barriers;
+__attribute__((section(".preinit_array"),
+               used)) void (*const kWaitPassivelyAtBarriers)(int, char**,
+                                                             char**) = &wait_passively_at_barriers;
 
 }  // namespace
 

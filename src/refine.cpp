@@ -104,6 +104,39 @@ bool aims_at_uncovered(const EvalResult& now) {
   return now.surface_to_medial_max >= now.medial_to_surface_max;
 }
 
+// Whether the vertices of sphere `removed` would all stay closer than `margin` to the
+// reconstruction without it. Computed aside, without changing the skeletonizer: removing a sphere
+// only relabels its own vertices (every other vertex keeps its nearest sphere), so they alone are
+// partitioned again, exactly as remove_sphere() would (lowest id among equals).
+bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, double margin) {
+  const Shape& shape = skeletonizer.shape();
+  const double lambda = skeletonizer.options().lambda;
+  std::vector<Sphere> spheres = skeletonizer.spheres();
+  spheres.erase(spheres.begin() + removed);
+  std::vector<int> labels = skeletonizer.labels();
+  std::vector<Vec3> members;
+  for (int v = 0; v < shape.size(); ++v) {
+    int& label = labels[v];
+    if (label != removed) {
+      if (label > removed) --label;
+      continue;
+    }
+    members.push_back(shape.points[v]);
+    double best = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < static_cast<int>(spheres.size()); ++c) {
+      const double energy = vertex_energy(shape, v, spheres[c], lambda);
+      if (energy < best) {
+        best = energy;
+        label = c;
+      }
+    }
+  }
+  const MedialMesh medial = build_medial_mesh(
+      spheres, cluster_adjacency(shape, labels, static_cast<int>(spheres.size())));
+  const std::vector<double> left = envelope_distances(medial, members);
+  return left.empty() || *std::max_element(left.begin(), left.end()) < margin;
+}
+
 // Adds a sphere where the reconstruction (`medial`, measured as `now`) is worst and removes the
 // cheapest sphere whose removal leaves its vertices covered (energy is an average: the sphere of a
 // thin part can be cheap while its removal opens a hole). The new sphere is frozen and comes last.
@@ -120,47 +153,79 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
       uncovered ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
                 : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
   skeletonizer.freeze(added);
-  const SkeletonizerState with_added = skeletonizer.state();
   // A bulge: its own spheres may go first (the new one takes their place).
   std::vector<int> order;
   for (int own : bulge.spheres)
     if (own >= 0 && !skeletonizer.frozen(own)) order.push_back(own);
   for (int c : removal_order(skeletonizer, added))
     if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
-  const Shape& shape = skeletonizer.shape();
   for (std::size_t k = 0; k < order.size() && k < kRemovalCandidates; ++k) {
-    const int removed = order[k];
-    std::vector<Vec3> members;
-    for (int v = 0; v < shape.size(); ++v)
-      if (skeletonizer.labels()[v] == removed) members.push_back(shape.points[v]);
-    skeletonizer.remove_sphere(removed);
-    const std::vector<double> left = envelope_distances(skeletonizer.medial_mesh(), members);
-    if (left.empty() ||
-        *std::max_element(left.begin(), left.end()) < kRemovalMargin * now.hausdorff)
-      return removed;
-    skeletonizer.restore(with_added);
+    if (!leaves_members_covered(skeletonizer, order[k], kRemovalMargin * now.hausdorff)) continue;
+    skeletonizer.remove_sphere(order[k]);
+    return order[k];
   }
   skeletonizer.restore(before);
   return -1;
 }
 
+// Freezes every unfrozen sphere whose cluster the move (sphere `removed` out, a new last one in)
+// left as it was, given the labels before it; returns them. Only the move's neighbourhood adapts
+// to it: the rest of the skeleton was settled, and its unchanged primitives need no new
+// measurement (Evaluator re-uses them).
+std::vector<int> hold_unaffected(Skeletonizer& skeletonizer, const std::vector<int>& labels_before,
+                                 int removed) {
+  const int count = static_cast<int>(skeletonizer.spheres().size());
+  const std::vector<int>& labels = skeletonizer.labels();
+  std::vector<bool> affected(count, false);
+  affected[count - 1] = true;
+  for (std::size_t v = 0; v < labels.size(); ++v) {
+    int before = labels_before[v];
+    if (before == removed) {
+      affected[labels[v]] = true;
+      continue;
+    }
+    if (before > removed) --before;  // ids after the removed sphere moved down by one
+    if (before != labels[v]) affected[before] = affected[labels[v]] = true;
+  }
+  std::vector<int> held;
+  for (int c = 0; c < count; ++c) {
+    if (affected[c] || skeletonizer.frozen(c)) continue;
+    skeletonizer.freeze(c);
+    held.push_back(c);
+  }
+  return held;
+}
+
 }  // namespace
 
-RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput& surface,
-                                 const RefineOptions& options, const ProgressCallback& progress) {
-  options.validate();
-  const auto start = std::chrono::steady_clock::now();
-  RefineReport report;
-  if (options.max_moves == 0) return report;
-  // Coarser than vmas eval's defaults (the input's vertices only, 4x the boundary spacing, 8
-  // refined maxima instead of 256, maxima only), and re-using what it measured of unchanged
-  // primitives: a measurement costs a few ms once the first is made.
+EvalOptions refinement_eval_options() {
+  // A measurement costs a few ms once the first is made (the Evaluator re-uses what it measured
+  // of unchanged primitives).
   EvalOptions coarse;
   coarse.surface_samples = 0;
   coarse.boundary_spacing = 0.016;
   coarse.refined_samples = 8;
   coarse.maxima_only = true;
-  Evaluator evaluator(surface, coarse);
+  return coarse;
+}
+
+RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput& surface,
+                                 const RefineOptions& options, const ProgressCallback& progress) {
+  options.validate();
+  if (options.max_moves == 0) return {};
+  const auto start = std::chrono::steady_clock::now();
+  Evaluator evaluator(surface, refinement_eval_options());
+  RefineReport report = refine_worst_served(skeletonizer, evaluator, options, progress);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluator,
+                                 const RefineOptions& options, const ProgressCallback& progress) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  RefineReport report;
+  if (options.max_moves == 0) return report;
   // A measurement of the skeleton as it is; kept with its medial mesh and its components (a move
   // must not split the skeleton).
   MedialMesh medial;
@@ -197,9 +262,11 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
     };
     EvalResult trial = measure();
     if (!better(trial)) {
+      const std::vector<int> held = hold_unaffected(skeletonizer, best_state.labels, removed);
       for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
       for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
         skeletonizer.final_refit(round);
+      for (int c : held) skeletonizer.freeze(c, false);
       trial = measure();
     }
     if (!better(trial)) {

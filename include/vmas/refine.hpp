@@ -6,6 +6,7 @@
 // removal costs the least energy to the worst-served place, re-settling the optimisation after
 // each move; a move is kept only when the measured error drops and the skeleton does not fall
 // apart into more components. The sphere count never changes.
+#include "vmas/eval.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/types.hpp"
 
@@ -32,6 +33,17 @@ struct RefineReport {
 // stops with the best state so far. Deterministic for any thread count; frozen spheres are
 // neither moved nor removed, and the sphere count stays the same.
 RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput& surface,
+                                 const RefineOptions& options,
+                                 const ProgressCallback& progress = {});
+
+// What the stage measures with: coarser than vmas eval's defaults (the input's vertices only, 4x
+// the boundary spacing, 8 refined maxima, maxima only). Its Evaluator takes a while to build (a
+// tree over the input's faces) and needs only the surface: vmas::skeletonize builds it beside
+// the run and hands it to the overload below.
+EvalOptions refinement_eval_options();
+
+// As above, measuring with `evaluator`, built on the surface with refinement_eval_options().
+RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluator,
                                  const RefineOptions& options,
                                  const ProgressCallback& progress = {});
 
