@@ -1,6 +1,6 @@
 #pragma once
 // Subcommands of the `vmas` tool. Each parses its own options and returns the exit code:
-// 0 success, 1 run error, 2 usage error. Errors escape as exceptions and main() prints them.
+// 0 success, 1 run error, 2 usage error. Errors escape as exceptions; run_command prints them.
 #include <boost/program_options.hpp>
 #include <string>
 
@@ -24,16 +24,19 @@ boost::program_options::variables_map parse_arguments(
 // The --threads option of every subcommand: 0 keeps OpenMP's default (all cores).
 void set_threads(int threads);
 
+// Runs a subcommand (`name` as typed after vmas) and maps what escapes it to a one-line message
+// and an exit code: 2 for a usage error, 1 for any other.
+int run_command(const std::string& name, int (*command)(int, const char* const*), int argc,
+                const char* const* argv);
+
 // The run's options (spheres, λ, denoising, normals, ...), shared by skeletonize and edit.
 struct RunOptionValues {
   Options options;
   std::string denoise = "auto";  // --denoise as typed
 };
-void add_run_options(boost::program_options::options_description& visible,
-                     RunOptionValues& values);
+void add_run_options(boost::program_options::options_description& visible, RunOptionValues& values);
 // After notify(): the flags and --denoise into `options`, then options.validate().
-void finish_run_options(const boost::program_options::variables_map& vm,
-                        RunOptionValues& values);
+void finish_run_options(const boost::program_options::variables_map& vm, RunOptionValues& values);
 
 // Fails before any work is done when an output cannot possibly be written (a usage error):
 // `check` is vmas::check_output or vmas::check_medial_mesh_output.
