@@ -168,24 +168,25 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
   return -1;
 }
 
-// Freezes every unfrozen sphere whose cluster the move (sphere `removed` out, a new last one in)
-// left as it was, given the labels before it; returns them. Only the move's neighbourhood adapts
+// Freezes every unfrozen sphere but those the move (sphere `removed` out, a new last one in)
+// touched: the new one, the spheres it took vertices from and those that took the removed one's
+// vertices, given the labels before the move. Returns them. Only the move's neighbourhood adapts
 // to it: the rest of the skeleton was settled, and its unchanged primitives need no new
-// measurement (Evaluator re-uses them).
+// measurement (Evaluator re-uses them). Other vertices may have changed clusters too (the final
+// refits moved every sphere after the last partition), without anything to adapt to.
 std::vector<int> hold_unaffected(Skeletonizer& skeletonizer, const std::vector<int>& labels_before,
                                  int removed) {
   const int count = static_cast<int>(skeletonizer.spheres().size());
+  const int added = count - 1;
   const std::vector<int>& labels = skeletonizer.labels();
   std::vector<bool> affected(count, false);
-  affected[count - 1] = true;
+  affected[added] = true;
   for (std::size_t v = 0; v < labels.size(); ++v) {
-    int before = labels_before[v];
-    if (before == removed) {
+    const int before = labels_before[v];
+    if (before == removed)
       affected[labels[v]] = true;
-      continue;
-    }
-    if (before > removed) --before;  // ids after the removed sphere moved down by one
-    if (before != labels[v]) affected[before] = affected[labels[v]] = true;
+    else if (labels[v] == added)  // ids after the removed sphere moved down by one
+      affected[before > removed ? before - 1 : before] = true;
   }
   std::vector<int> held;
   for (int c = 0; c < count; ++c) {
