@@ -168,35 +168,6 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
   return -1;
 }
 
-// Freezes every unfrozen sphere but those the move (sphere `removed` out, a new last one in)
-// touched: the new one, the spheres it took vertices from and those that took the removed one's
-// vertices, given the labels before the move. Returns them. Only the move's neighbourhood adapts
-// to it: the rest of the skeleton was settled, and its unchanged primitives need no new
-// measurement (Evaluator re-uses them). Other vertices may have changed clusters too (the final
-// refits moved every sphere after the last partition), without anything to adapt to.
-std::vector<int> hold_unaffected(Skeletonizer& skeletonizer, const std::vector<int>& labels_before,
-                                 int removed) {
-  const int count = static_cast<int>(skeletonizer.spheres().size());
-  const int added = count - 1;
-  const std::vector<int>& labels = skeletonizer.labels();
-  std::vector<bool> affected(count, false);
-  affected[added] = true;
-  for (std::size_t v = 0; v < labels.size(); ++v) {
-    const int before = labels_before[v];
-    if (before == removed)
-      affected[labels[v]] = true;
-    else if (labels[v] == added)  // ids after the removed sphere moved down by one
-      affected[before > removed ? before - 1 : before] = true;
-  }
-  std::vector<int> held;
-  for (int c = 0; c < count; ++c) {
-    if (affected[c] || skeletonizer.frozen(c)) continue;
-    skeletonizer.freeze(c);
-    held.push_back(c);
-  }
-  return held;
-}
-
 }  // namespace
 
 EvalOptions refinement_eval_options() {
@@ -263,11 +234,9 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     };
     EvalResult trial = measure();
     if (!better(trial)) {
-      const std::vector<int> held = hold_unaffected(skeletonizer, best_state.labels, removed);
       for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
       for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
         skeletonizer.final_refit(round);
-      for (int c : held) skeletonizer.freeze(c, false);
       trial = measure();
     }
     if (!better(trial)) {

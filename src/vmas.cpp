@@ -183,7 +183,8 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   if (result.summary.cancelled) throw Cancelled();
   if (evaluator.valid()) {
     const auto refine_start = Clock::now();
-    result.refine = refine_worst_served(skeletonizer, *evaluator.get(), options.refine, progress);
+    const std::unique_ptr<Evaluator> built = evaluator.get();
+    result.refine = refine_worst_served(skeletonizer, *built, options.refine, progress);
     if (result.refine.cancelled) throw Cancelled();
     result.seconds.refine = seconds_since(refine_start);
   }
