@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include "vmas/error.hpp"
 
@@ -121,16 +122,28 @@ MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces) {
     int low, high;  // the edge's vertices, low < high
     bool forward;   // the face runs from low to high
   };
-  std::vector<Use> uses;
-  uses.reserve(3 * faces.size());
+  // Uses bucketed by their low vertex, then sorted within each bucket (a few uses each): a sort
+  // of all of them took ~20 ms on a 73 000-face mesh.
+  int vertices = 0;
+  for (const auto& face : faces)
+    for (int v : face) {
+      if (v < 0) throw InvalidInput("mesh_defects: negative vertex index " + std::to_string(v));
+      vertices = std::max(vertices, v + 1);
+    }
+  std::vector<int> offsets(vertices + 1, 0);
+  for (const auto& face : faces)
+    for (int c = 0; c < 3; ++c) ++offsets[std::min(face[c], face[(c + 1) % 3]) + 1];
+  for (int v = 0; v < vertices; ++v) offsets[v + 1] += offsets[v];
+  std::vector<Use> uses(3 * faces.size());
+  std::vector<int> filled(offsets.begin(), offsets.end() - 1);
   for (const auto& face : faces)
     for (int c = 0; c < 3; ++c) {
       const int a = face[c], b = face[(c + 1) % 3];
-      uses.push_back({std::min(a, b), std::max(a, b), a < b});
+      uses[filled[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), a < b};
     }
-  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
-    return x.low != y.low ? x.low < y.low : x.high < y.high;
-  });
+  for (int v = 0; v < vertices; ++v)
+    std::sort(uses.begin() + offsets[v], uses.begin() + offsets[v + 1],
+              [](const Use& x, const Use& y) { return x.high < y.high; });
   MeshDefects defects;
   for (std::size_t first = 0, last = 0; first < uses.size(); first = last) {
     while (last < uses.size() && uses[last].low == uses[first].low &&

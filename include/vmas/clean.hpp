@@ -40,6 +40,7 @@ struct MeshDefects {
   std::size_t misoriented_edges = 0;   // its two faces run along it the same way: neighbouring
                                        // faces disagree on which side is outside
 };
+// Vertex indices are those of a cleaned surface (never negative; InvalidInput otherwise).
 MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces);
 
 }  // namespace vmas
