@@ -1,5 +1,7 @@
 // What both programs (vmas, and vmas-edit behind `vmas edit`) share: argument parsing, threads,
 // the mapping of errors to messages and exit codes, and passive waiting at OpenMP barriers.
+#include <unistd.h>
+
 #include <boost/program_options/errors.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -50,23 +52,19 @@ int run_command(const std::string& name, int (*command)(int, const char* const*)
   }
 }
 
-}  // namespace vmas::cli
-
-namespace {
-
 // OpenMP threads that wait at a barrier spin by default, for up to a few hundred microseconds.
 // On a machine that is busy with something else (a second vmas of a batch, say), the spinning
 // thread takes the core from the one it waits for: two runs at once took 2.6 times as long as
 // the same two one after the other, and one run beside a busy process 1.7 times as long as with
 // --threads 1. Waiting passively costs about 3 % on an idle machine. libgomp reads the policy
-// once, in its constructor: a function of the executable's preinit array runs before any
-// library's constructor, so the setting is in place by then (a user's own OMP_WAIT_POLICY is
-// left alone). Starting the process again with it set cost ~20 ms, 10 % of a small model's run.
-void wait_passively_at_barriers(int, char**, char**) {
-  setenv("OMP_WAIT_POLICY", "passive", /*replace=*/0);
+// once, when it is loaded, so it has to be in the environment before the process starts: set
+// it and start again (a user's own OMP_WAIT_POLICY is left alone). Setting it earlier from the
+// executable's preinit array does not work: libc takes the environment from the stack again
+// after that array has run.
+void wait_passively_at_barriers(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
 }
-__attribute__((section(".preinit_array"),
-               used)) void (*const kWaitPassivelyAtBarriers)(int, char**,
-                                                             char**) = &wait_passively_at_barriers;
 
-}  // namespace
+}  // namespace vmas::cli

@@ -229,10 +229,11 @@ int edit_command(int argc, const char* const* argv) {
   httplib::Server server;
   server.set_payload_max_length(kMaxRequestBytes);
   const std::string token = random_token();
-  std::atomic<int> pages{0};                // event streams open now
-  std::atomic<bool> page_seen{false};       // ... and ever
+  std::atomic<int> pages{0};           // event streams open now
+  std::atomic<bool> page_seen{false};  // ... and ever
   std::atomic<bool> stopping{false};
-  const int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
+  const int bound =
+      port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
   if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
   const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
@@ -245,8 +246,8 @@ int edit_command(int argc, const char* const* argv) {
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
   // page (its Origin) is refused even with it.
   server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
-    const std::string given =
-        req.has_param("token") ? req.get_param_value("token") : req.get_header_value("X-Vmas-Token");
+    const std::string given = req.has_param("token") ? req.get_param_value("token")
+                                                     : req.get_header_value("X-Vmas-Token");
     if (given != token) {
       reply_error(res, 403, "missing or wrong token: open the URL that vmas edit printed");
       return httplib::Server::HandlerResponse::Handled;
@@ -272,7 +273,8 @@ int edit_command(int argc, const char* const* argv) {
   });
   server.Get("/api/labels", [&](const httplib::Request&, httplib::Response& res) {
     const EditSnapshot s = session.snapshot();
-    std::string bytes(reinterpret_cast<const char*>(s.labels.data()), s.labels.size() * sizeof(int));
+    std::string bytes(reinterpret_cast<const char*>(s.labels.data()),
+                      s.labels.size() * sizeof(int));
     res.set_header("X-Vmas-Version", std::to_string(s.version));
     res.set_content(std::move(bytes), "application/octet-stream");
   });
@@ -290,12 +292,13 @@ int edit_command(int argc, const char* const* argv) {
         [&, sent, last](std::size_t, httplib::DataSink& sink) {
           if (stopping || !sink.is_writable()) return false;
           std::this_thread::sleep_until(*last + kUpdateInterval);
-          const std::uint64_t version = session.wait_for_version(
-              sent->version, static_cast<int>(kKeepAlive.count()));
+          const std::uint64_t version =
+              session.wait_for_version(sent->version, static_cast<int>(kKeepAlive.count()));
           *last = std::chrono::steady_clock::now();
           std::string event = ": keep-alive\n\n";
           if (version > sent->version)
-            event = "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
+            event =
+                "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
           return sink.write(event.data(), event.size());
         },
         [&](bool) { --pages; });
@@ -315,8 +318,9 @@ int edit_command(int argc, const char* const* argv) {
   server.Get("/api/download", [&](const httplib::Request&, httplib::Response& res) {
     if (output.empty() || !std::filesystem::exists(output))
       return reply_error(res, 404, "nothing saved yet");
-    res.set_header("Content-Disposition",
-                   "attachment; filename=\"" + std::filesystem::path(output).filename().string() + "\"");
+    res.set_header(
+        "Content-Disposition",
+        "attachment; filename=\"" + std::filesystem::path(output).filename().string() + "\"");
     std::ifstream file(output, std::ios::binary);
     res.set_content(std::string(std::istreambuf_iterator<char>(file), {}),
                     "application/octet-stream");
