@@ -79,6 +79,24 @@ TEST_F(Cli, LabelsCoverEveryPointOfTheFile) {
   EXPECT_GE(labels[0], 0);
 }
 
+// The threads that do the work wait passively at barriers unless the user chose a policy: libgomp
+// prints its settings when it loads (OMP_DISPLAY_ENV), the last of them are the working process's.
+TEST_F(Cli, ThreadsWaitPassivelyUnlessTheUserChoseAPolicy) {
+  const auto last_spin_count = [&](const std::string& policy) {
+    const std::string command = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT " + policy +
+                                " OMP_DISPLAY_ENV=verbose " + VMAS_CLI + " --version > " +
+                                path("stdout") + " 2> " + path("stderr");
+    EXPECT_EQ(std::system(command.c_str()), 0);
+    std::istringstream lines(test::read_text(path("stderr")));
+    std::string line, last;
+    while (std::getline(lines, line))
+      if (line.find("GOMP_SPINCOUNT") != std::string::npos) last = line;
+    return last;
+  };
+  EXPECT_NE(last_spin_count("").find("'0'"), std::string::npos);
+  EXPECT_EQ(last_spin_count("OMP_WAIT_POLICY=active").find("'0'"), std::string::npos);
+}
+
 TEST_F(Cli, VersionAndJsonSummaryWithEval) {
   Result r = run("--version");
   EXPECT_EQ(r.exit_code, 0);
