@@ -24,9 +24,10 @@ boost::program_options::variables_map parse_arguments(
 // The --threads option of every subcommand: 0 keeps OpenMP's default (all cores).
 void set_threads(int threads);
 
-// First thing in main(): starts the program again with OMP_WAIT_POLICY=passive unless the
-// variable is set (apps/cli.cpp says why).
-void wait_passively_at_barriers(char** argv);
+// First thing in main(): starts the program again with passive waiting at OpenMP barriers and
+// transparent huge pages for malloc, unless the user's environment says otherwise (apps/cli.cpp
+// says why).
+void restart_with_process_settings(char** argv);
 
 // Runs a subcommand (`name` as typed after vmas) and maps what escapes it to a one-line message
 // and an exit code: 2 for a usage error, 1 for any other.

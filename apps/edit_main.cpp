@@ -3,6 +3,6 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  vmas::cli::wait_passively_at_barriers(argv);
+  vmas::cli::restart_with_process_settings(argv);
   return vmas::cli::run_command("edit", vmas::cli::edit_command, argc, argv);
 }

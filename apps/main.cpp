@@ -43,7 +43,7 @@ int start_editor(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  vmas::cli::wait_passively_at_barriers(argv);
+  vmas::cli::restart_with_process_settings(argv);
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     std::cout << kUsage;
     return argc < 2 ? 2 : 0;
