@@ -4,6 +4,8 @@
 #include <array>
 #include <flann/flann.hpp>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <utility>
 
 #include "flann_query.hpp"
@@ -220,10 +222,34 @@ class NearestTree {
 
 }  // namespace
 
+// Each of the two trees is built when first asked for: most users ask only for the nearest
+// point (the shrinking ball) or only for k nearest (noise, normals, areas), and a build costs
+// about as much as a few thousand queries.
 struct KdTree::Impl {
-  std::vector<double> coordinates;  // FLANN keeps a view into this buffer
+  std::vector<double> coordinates;  // x y z of each point; FLANN keeps a view into this buffer
+  std::once_flag index_built, nearest_built;
   std::unique_ptr<flann::KDTreeSingleIndex<flann::L2_Simple<double>>> index;
   std::unique_ptr<NearestTree> nearest;
+
+  const flann::KDTreeSingleIndex<flann::L2_Simple<double>>& flann_index() {
+    std::call_once(index_built, [this] {
+      flann::Matrix<double> data(coordinates.data(), coordinates.size() / 3, 3);
+      index = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<double>>>(
+          data, flann::KDTreeSingleIndexParams(kLeafSize));
+      index->buildIndex();
+    });
+    return *index;
+  }
+
+  const NearestTree& nearest_tree() {
+    std::call_once(nearest_built, [this] {
+      std::vector<Vec3> points(coordinates.size() / 3);
+      for (std::size_t i = 0; i < points.size(); ++i)
+        points[i] = Vec3(coordinates[3 * i], coordinates[3 * i + 1], coordinates[3 * i + 2]);
+      nearest = std::make_unique<NearestTree>(points);
+    });
+    return *nearest;
+  }
 };
 
 KdTree::KdTree(const std::vector<Vec3>& points)
@@ -232,11 +258,6 @@ KdTree::KdTree(const std::vector<Vec3>& points)
   impl_->coordinates.resize(3 * points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int c = 0; c < 3; ++c) impl_->coordinates[3 * i + c] = points[i][c];
-  flann::Matrix<double> data(impl_->coordinates.data(), points.size(), 3);
-  impl_->index = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<double>>>(
-      data, flann::KDTreeSingleIndexParams(kLeafSize));
-  impl_->index->buildIndex();
-  impl_->nearest = std::make_unique<NearestTree>(points);
 }
 
 KdTree::~KdTree() = default;
@@ -244,7 +265,7 @@ KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
 int KdTree::nearest(const Vec3& query, double* squared_distance) const {
-  return impl_->nearest->nearest(query, squared_distance);
+  return impl_->nearest_tree().nearest(query, squared_distance);
 }
 
 void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,
@@ -256,7 +277,7 @@ void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,
   flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
   params.sorted = true;
   std::vector<std::size_t> found(wanted);
-  const std::size_t n = flann_query::k_nearest(*impl_->index, q, found.size(), found.data(),
+  const std::size_t n = flann_query::k_nearest(impl_->flann_index(), q, found.size(), found.data(),
                                                squared_distances.data(), params);
   for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<int>(found[i]);
 }
