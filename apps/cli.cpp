@@ -1,5 +1,5 @@
 // What both programs (vmas, and vmas-edit behind `vmas edit`) share: argument parsing, threads,
-// the mapping of errors to messages and exit codes, and passive waiting at OpenMP barriers.
+// the mapping of errors to messages and exit codes, and the restart with process settings.
 #include <unistd.h>
 
 #include <boost/program_options/errors.hpp>

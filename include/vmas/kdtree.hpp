@@ -1,6 +1,7 @@
 #pragma once
 // Exact nearest-neighbour queries over a fixed point set (FLANN single KD-tree, unlimited
-// checks). Queries are const and safe to run from several threads at once.
+// checks). Queries are const and safe to run from several threads at once; the tree a kind of
+// query needs is built by the first such query.
 #include <memory>
 #include <vector>
 
