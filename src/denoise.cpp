@@ -133,10 +133,6 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   return inliers;
 }
 
-}  // namespace
-
-namespace {
-
 // RMS distance of `points[indices]` to their least-squares quadric height field over the PCA
 // plane, with the six fitted coefficients taken out of the degrees of freedom. NaN when the
 // neighbourhood is degenerate.

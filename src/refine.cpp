@@ -140,11 +140,11 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, doubl
 // Adds a sphere where the reconstruction (`medial`, measured as `now`) is worst and removes the
 // cheapest sphere whose removal leaves its vertices covered (energy is an average: the sphere of a
 // thin part can be cheap while its removal opens a hole). The new sphere is frozen and comes last.
-// Returns the removed sphere's id; -1 (state unchanged) when no sphere can go.
+// Returns the removed sphere's id; -1 when no sphere can go (the new one is left in place: the
+// caller restores its last state).
 int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const EvalResult& now) {
   const bool uncovered = aims_at_uncovered(now);
   const MedialProjector& projector = skeletonizer.projector();
-  const SkeletonizerState before = skeletonizer.state();
   // A surface point far from the reconstruction gets the medial ball touching it; a bulge of
   // the reconstruction gets the medial sphere under the interpolated sphere that makes it.
   Generator bulge;
@@ -164,7 +164,6 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
     skeletonizer.remove_sphere(order[k]);
     return order[k];
   }
-  skeletonizer.restore(before);
   return -1;
 }
 
@@ -225,7 +224,10 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
       break;
     }
     const int removed = add_and_remove(skeletonizer, best_medial, best);
-    if (removed < 0) break;
+    if (removed < 0) {
+      skeletonizer.restore(best_state);
+      break;
+    }
     ++report.tried;
     // First the move alone (the rest stays as it is); if that does not help, the neighbours
     // adapt to it: a few steps and the final refits, the new sphere held in place.

@@ -94,8 +94,7 @@ void Skeletonizer::repartition() {
   const auto start = Clock::now();
   partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_, energies_current_);
   energies_current_ = true;
-  members_.assign(spheres_.size(), {});
-  for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
+  rebuild_members();
   times_.partition += seconds_since(start);
   refresh_errors(false);  // partition() left E_v of the assigned spheres in vertex_energies_
 }
@@ -330,11 +329,7 @@ int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled
   frozen_.assign(spheres_.size(), false);
   energies_current_ = false;
   repartition();
-  const StageTimes& times = coarse.times();
-  times_.partition += times.partition;
-  times_.update += times.update;
-  times_.projection += times.projection;
-  times_.split += times.split;
+  times_ += coarse.times();
   return summary.iterations;
 }
 
@@ -418,9 +413,13 @@ void Skeletonizer::restore(const SkeletonizerState& state) {
   spheres_ = state.spheres;
   frozen_ = state.frozen;
   labels_ = state.labels;
+  rebuild_members();
+  refresh_errors(true);
+}
+
+void Skeletonizer::rebuild_members() {
   members_.assign(spheres_.size(), {});
   for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
-  refresh_errors(true);
 }
 
 MedialMesh Skeletonizer::medial_mesh() const {

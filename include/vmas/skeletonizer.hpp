@@ -45,6 +45,13 @@ struct SkeletonizerOptions {
 
 struct StageTimes {  // seconds spent in each stage so far
   double partition = 0.0, update = 0.0, projection = 0.0, split = 0.0;
+  StageTimes& operator+=(const StageTimes& other) {
+    partition += other.partition;
+    update += other.update;
+    projection += other.projection;
+    split += other.split;
+    return *this;
+  }
 };
 
 struct Progress {
@@ -130,6 +137,7 @@ class Skeletonizer {
   // takes its spheres; returns its steps (0 when it does not apply).
   int start_coarse(const ProgressCallback& progress, bool& cancelled);
   void repartition();                   // partition, then refresh members and errors
+  void rebuild_members();               // members_ from labels_
   bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
