@@ -108,16 +108,21 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
                                      const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                      const std::vector<int>& candidates, int k, double deviations) {
   const int searched = k + 1;  // the point itself comes first
-  pcl::Indices neighbours(searched);
-  std::vector<float> squared(searched);
   std::vector<float> mean_distance(candidates.size(), 0.0f);
+  const auto count = static_cast<std::ptrdiff_t>(candidates.size());
   int measured = 0;
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (search.nearestKSearch(cloud[candidates[i]], searched, neighbours, squared) == 0) continue;
-    double sum = 0.0;
-    for (int j = 1; j < searched; ++j) sum += std::sqrt(squared[j]);
-    mean_distance[i] = static_cast<float>(sum / k);
-    ++measured;
+#pragma omp parallel reduction(+ : measured)
+  {
+    pcl::Indices neighbours(searched);
+    std::vector<float> squared(searched);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (search.nearestKSearch(cloud[candidates[i]], searched, neighbours, squared) == 0) continue;
+      double sum = 0.0;
+      for (int j = 1; j < searched; ++j) sum += std::sqrt(squared[j]);
+      mean_distance[i] = static_cast<float>(sum / k);
+      ++measured;
+    }
   }
   double sum = 0.0, squares = 0.0;
   for (float d : mean_distance) {

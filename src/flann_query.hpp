@@ -6,8 +6,11 @@
 // sets and ordering as FLANN's, so the same neighbours, for an index no point was removed from.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <flann/flann.hpp>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace vmas::flann_query {
@@ -37,6 +40,24 @@ std::size_t k_nearest(const Index& index, const T* query, std::size_t k, std::si
   return n;
 }
 
+// found/squared sorted as FLANN sorts results (nearest first, lower index among equals), by one
+// integer key per result: the bits of a non-negative float order as the float does. Twice as
+// fast as sorting FLANN's (distance, index) pairs, which was a tenth of a noisy cloud's run.
+inline void sort_nearest_first(std::vector<std::size_t>& found, std::vector<float>& squared) {
+  std::vector<std::uint64_t> keys(found.size());
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &squared[i], sizeof bits);
+    keys[i] = (std::uint64_t{bits} << 32) | found[i];
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const auto bits = static_cast<std::uint32_t>(keys[i] >> 32);
+    std::memcpy(&squared[i], &bits, sizeof bits);
+    found[i] = keys[i] & 0xffffffffu;
+  }
+}
+
 // The points within `squared_radius`, at most `max_neighbors` of them (0: all) in `found` and
 // `squared`; returns how many are within the radius (before the cap), as FLANN does.
 template <class Index, class T>
@@ -44,21 +65,25 @@ std::size_t within_radius(const Index& index, const T* query, T squared_radius,
                           std::size_t max_neighbors, std::vector<std::size_t>& found,
                           std::vector<T>& squared, const flann::SearchParams& params) {
   std::size_t count = 0;
-  const auto search = [&](auto& result, std::size_t cap) {
+  const auto search = [&](auto& result, std::size_t cap, bool sorted) {
     result.clear();
     index.findNeighbors(result, query, params);
     count = result.size();
     const std::size_t kept = std::min(count, cap);
     found.resize(kept);
     squared.resize(kept);
-    if (kept > 0) result.copy(found.data(), squared.data(), kept, params.sorted);
+    if (kept > 0) result.copy(found.data(), squared.data(), kept, sorted);
   };
   if (max_neighbors == 0) {
+    // Indices fit the key's 32 bits: FLANN's are those of a cloud held in memory.
+    constexpr bool kByKey = std::is_same_v<T, float>;
     flann::RadiusResultSet<T> result(squared_radius);
-    search(result, std::numeric_limits<std::size_t>::max());
+    search(result, std::numeric_limits<std::size_t>::max(), params.sorted && !kByKey);
+    if constexpr (kByKey)
+      if (params.sorted) sort_nearest_first(found, squared);
   } else {
     flann::KNNRadiusResultSet<T> result(squared_radius, max_neighbors);
-    search(result, max_neighbors);
+    search(result, max_neighbors, params.sorted);
   }
   return count;
 }

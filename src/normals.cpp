@@ -121,7 +121,12 @@ std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,
                                               const std::vector<Vec3>& normals,
                                               const Neighbourhoods& neighbours) {
   const int count = static_cast<int>(points.size());
+  const auto lists = [&](int i, int j) {
+    const int* row = neighbours.row(i);
+    return std::find(row, row + neighbours.width, j) != row + neighbours.width;
+  };
   double spacing_sum = 0.0;
+  std::size_t found = 0;
   std::vector<Edge> edges;
   edges.reserve(static_cast<std::size_t>(count) * neighbours.width);
   for (int i = 0; i < count; ++i) {
@@ -129,18 +134,32 @@ std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,
       const int j = neighbours.row(i)[c];
       if (j == i) continue;
       spacing_sum += (points[j] - points[i]).norm();
-      edges.push_back({0.0, std::min(i, j), std::max(i, j)});
+      ++found;
+      // An edge found from both ends is kept once: from its lower end.
+      if (i < j || !lists(j, i)) edges.push_back({0.0, std::min(i, j), std::max(i, j)});
     }
   }
-  const double mean_spacing =
-      std::max(spacing_sum / std::max<std::size_t>(edges.size(), 1), 1e-300);
-  for (Edge& e : edges)
+  const double mean_spacing = std::max(spacing_sum / std::max<std::size_t>(found, 1), 1e-300);
+  const auto edge_count = static_cast<std::ptrdiff_t>(edges.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < edge_count; ++k) {
+    Edge& e = edges[k];
     e.weight = edge_weight(points[e.a], points[e.b], normals[e.a], normals[e.b], mean_spacing);
-  // A total order keeps the forest independent of the sort implementation; an edge found from
-  // both ends appears twice and the union-find drops the copy.
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+  }
+  // A total order keeps the forest independent of the sort implementation (and of sorting the
+  // two halves apart before merging them).
+  const auto lighter = [](const Edge& x, const Edge& y) {
     return std::tie(x.weight, x.a, x.b) < std::tie(y.weight, y.a, y.b);
-  });
+  };
+  const auto middle = edges.begin() + edges.size() / 2;
+#pragma omp parallel sections
+  {
+#pragma omp section
+    std::sort(edges.begin(), middle, lighter);
+#pragma omp section
+    std::sort(middle, edges.end(), lighter);
+  }
+  std::inplace_merge(edges.begin(), middle, edges.end(), lighter);
   DisjointSets sets(count);
   std::vector<std::vector<int>> forest(count);
   for (const Edge& e : edges) {
@@ -172,13 +191,19 @@ std::vector<Vec3> sphere_directions(int count) {
 // and it is weak exactly where (1) is strong (thin plates enclose little volume).
 bool points_inward(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                    const std::vector<int>& component, const std::vector<Vec3>& directions) {
-  double extremes = 0.0;
-  for (const Vec3& d : directions) {
+  constexpr std::size_t kParallelFrom = 1000;  // points; smaller components stay on one thread
+  const int direction_count = static_cast<int>(directions.size());
+  std::vector<double> votes(direction_count);
+#pragma omp parallel for schedule(static) if (component.size() >= kParallelFrom)
+  for (int k = 0; k < direction_count; ++k) {
+    const Vec3& d = directions[k];
     int extreme = component.front();
     for (int i : component)
       if (points[i].dot(d) > points[extreme].dot(d)) extreme = i;
-    extremes += normals[extreme].dot(d);
+    votes[k] = normals[extreme].dot(d);
   }
+  double extremes = 0.0;
+  for (double vote : votes) extremes += vote;  // in direction order, whatever the thread count
   return extremes / static_cast<double>(directions.size()) +
              outward_flux(points, normals, component) <
          0.0;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 
+#include "../src/flann_query.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
@@ -74,6 +75,42 @@ TEST(KdTree, NearestMatchesFlannDownToTies) {
     EXPECT_EQ(tree.nearest(query, &squared_distance), static_cast<int>(expected.index_));
     EXPECT_EQ(squared_distance, expected.distance_);
   }
+}
+
+TEST(FlannQuery, SortedRadiusResultsMatchFlannDownToTies) {
+  // Grid points at equal distances from grid queries: the order among equals is FLANN's (lower
+  // index first), which PCL's MLS sums in.
+  std::vector<float> coordinates;
+  std::vector<Vec3> grid;
+  for (int x = 0; x < 10; ++x)
+    for (int y = 0; y < 8; ++y)
+      for (int z = 0; z < 6; ++z) grid.emplace_back(x, y, z);
+  std::shuffle(grid.begin(), grid.end(), std::mt19937(7));
+  for (const Vec3& p : grid)
+    coordinates.insert(coordinates.end(), {float(p.x()), float(p.y()), float(p.z())});
+  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(
+      flann::Matrix<float>(coordinates.data(), grid.size(), 3), flann::KDTreeSingleIndexParams(15));
+  index.buildIndex();
+  const flann::SearchParams sorted(-1, 0.0f, true);
+  std::size_t compared = 0;
+  for (int q = 0; q < 60; ++q) {
+    const float query[3] = {float(q % 10), float(q % 8) + 0.5f * (q % 2), float(q % 6)};
+    for (const float squared_radius : {2.0f, 5.0f, 12.5f}) {
+      std::vector<std::vector<std::size_t>> expected_indices;
+      std::vector<std::vector<float>> expected_squared;
+      index.radiusSearch(flann::Matrix<float>(const_cast<float*>(query), 1, 3), expected_indices,
+                         expected_squared, squared_radius, sorted);
+      std::vector<std::size_t> found;
+      std::vector<float> squared;
+      const std::size_t count =
+          flann_query::within_radius(index, query, squared_radius, 0, found, squared, sorted);
+      EXPECT_EQ(count, expected_indices[0].size());
+      EXPECT_EQ(found, expected_indices[0]);
+      EXPECT_EQ(squared, expected_squared[0]);
+      compared += found.size();
+    }
+  }
+  EXPECT_GT(compared, 1000u);
 }
 
 TEST(KdTree, KNearestIsSortedAndClampedToSize) {
