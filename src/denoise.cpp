@@ -16,6 +16,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <pcl/filters/impl/filter_indices.hpp>
 #include <pcl/filters/impl/statistical_outlier_removal.hpp>
 #include <pcl/filters/impl/voxel_grid.hpp>
@@ -48,6 +49,9 @@ template class pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal>;
 
 namespace vmas {
 namespace {
+
+// Median of |x| for a standard normal x: a robust deviation is a median distance over this.
+constexpr double kHalfNormalMedian = 0.6745;
 
 // pcl::search::KdTree's answers without FLANN's region per query (flann_query.hpp): the same
 // FLANN tree as pcl::KdTreeFLANN builds (single KD-tree, 15 points per leaf, float coordinates),
@@ -294,57 +298,105 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
   return kept;
 }
 
-std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
-  if (!(radius > 0.0)) throw InvalidOption("MLS radius must be positive");
-  constexpr double kFitsPerRadius = 6.0;        // voxel size of the fitting cloud: radius / this
-  constexpr double kMaxVoxelsPerAxis = 1000.0;  // keeps VoxelGrid's integer keys from overflowing
-  constexpr int kPolynomialCoefficients = 6;    // order 2
-  Vec3 centroid;
-  const auto cloud = centred_cloud(points, centroid);
-  // The surface is fitted on a voxel grid's centroids: a bounded number of samples per fit
-  // whatever the density, and the voxel averages are already less noisy.
-  const Box box = bounding_box(points);
-  const float voxel = static_cast<float>(
-      std::max(radius / kFitsPerRadius, box.sizes().maxCoeff() / kMaxVoxelsPerAxis));
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(cloud);
-  grid.setLeafSize(voxel, voxel, voxel);
-  auto fitting = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  grid.filter(*fitting);
+namespace {
 
-  pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal> mls;
-  mls.setInputCloud(fitting);
-  mls.setSearchMethod(std::make_shared<FlannSearch>(true));
-  mls.setSearchRadius(radius);
-  mls.setPolynomialOrder(2);
-  mls.setCacheMLSResults(true);
+// PCL's MovingLeastSquares surfaces of a cloud with support `radius`, fitted on a voxel grid's
+// centroids (a bounded number of samples per fit whatever the density, and the voxel averages are
+// already less noisy). A point goes onto the surface fitted at its nearest centroid.
+class MlsSurfaces {
+ public:
+  // Fits at every centroid, or only at those nearest to points[i] for i in `only` when given:
+  // each fit depends on its neighbourhood alone, so those are the fits of the whole surface.
+  MlsSurfaces(const std::vector<Vec3>& points, double radius, const std::vector<int>* only) {
+    if (!(radius > 0.0)) throw InvalidOption("MLS radius must be positive");
+    constexpr double kFitsPerRadius = 6.0;        // voxel size of the fitting cloud: radius / this
+    constexpr double kMaxVoxelsPerAxis = 1000.0;  // keeps VoxelGrid's integer keys from overflowing
+    const auto cloud = centred_cloud(points, centroid_);
+    const Box box = bounding_box(points);
+    const float voxel = static_cast<float>(
+        std::max(radius / kFitsPerRadius, box.sizes().maxCoeff() / kMaxVoxelsPerAxis));
+    pcl::VoxelGrid<pcl::PointXYZ> grid;
+    grid.setInputCloud(cloud);
+    grid.setLeafSize(voxel, voxel, voxel);
+    auto fitting = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    grid.filter(*fitting);
+    std::vector<Vec3> fitting_points(fitting->size());
+    for (std::size_t i = 0; i < fitting->size(); ++i)
+      fitting_points[i] = (*fitting)[i].getVector3fMap().cast<double>();
+    tree_.emplace(fitting_points);
+
+    pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal> mls;
+    mls.setInputCloud(fitting);
+    if (only) {
+      auto nearest = std::make_shared<pcl::Indices>();
+      for (int i : *only) nearest->push_back(tree_->nearest(points[i] - centroid_));
+      std::sort(nearest->begin(), nearest->end());
+      nearest->erase(std::unique(nearest->begin(), nearest->end()), nearest->end());
+      mls.setIndices(nearest);
+    }
+    mls.setSearchMethod(std::make_shared<FlannSearch>(true));
+    mls.setSearchRadius(radius);
+    mls.setPolynomialOrder(2);
+    mls.setCacheMLSResults(true);
 #ifdef _OPENMP
-  mls.setNumberOfThreads(static_cast<unsigned>(omp_get_max_threads()));
+    mls.setNumberOfThreads(static_cast<unsigned>(omp_get_max_threads()));
 #endif
-  pcl::PointCloud<pcl::PointNormal> fitted;
-  mls.process(fitted);
-  const std::vector<pcl::MLSResult>& surfaces = mls.getMLSResults();
+    pcl::PointCloud<pcl::PointNormal> fitted;
+    mls.process(fitted);
+    fits_ = mls.getMLSResults();
+  }
 
-  // Every point goes onto the surface fitted at its nearest fitting sample.
-  std::vector<Vec3> fitting_points(fitting->size());
-  for (std::size_t i = 0; i < fitting->size(); ++i)
-    fitting_points[i] = (*fitting)[i].getVector3fMap().cast<double>();
-  const KdTree tree(fitting_points);
+  // `point` moved onto its surface, and the surface normal there; false when no valid fit.
+  bool project(const Vec3& point, Vec3& projected, Vec3& normal) const {
+    constexpr int kPolynomialCoefficients = 6;  // order 2
+    const Vec3 local = point - centroid_;
+    const pcl::MLSResult& fit = fits_[tree_->nearest(local)];
+    if (!fit.valid) return false;
+    const pcl::MLSResult::MLSProjectionResults on =
+        fit.projectPoint(local, pcl::MLSResult::SIMPLE, kPolynomialCoefficients);
+    if (!on.point.allFinite() || !on.normal.allFinite()) return false;
+    projected = on.point + centroid_;
+    normal = on.normal;
+    return true;
+  }
+
+ private:
+  Vec3 centroid_;
+  std::optional<KdTree> tree_;  // over the fitting centroids (centred)
+  std::vector<pcl::MLSResult> fits_;
+};
+
+}  // namespace
+
+std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
+  const MlsSurfaces surfaces(points, radius, nullptr);
   std::vector<Vec3> normals(points.size(),
                             Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
   const int count = static_cast<int>(points.size());
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < count; ++i) {
-    const Vec3 local = points[i] - centroid;
-    const pcl::MLSResult& surface = surfaces[tree.nearest(local)];
-    if (!surface.valid) continue;
-    const pcl::MLSResult::MLSProjectionResults projected =
-        surface.projectPoint(local, pcl::MLSResult::SIMPLE, kPolynomialCoefficients);
-    if (!projected.point.allFinite() || !projected.normal.allFinite()) continue;
-    points[i] = projected.point + centroid;
-    normals[i] = projected.normal;
+    Vec3 projected, normal;
+    if (!surfaces.project(points[i], projected, normal)) continue;
+    points[i] = projected;
+    normals[i] = normal;
   }
   return normals;
+}
+
+double mls_deviation(const std::vector<Vec3>& points, double radius, int samples) {
+  if (samples < 1) throw InvalidOption("MLS deviation needs at least one sample");
+  if (points.empty()) return 0.0;
+  std::vector<int> measured;
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / samples);
+  for (std::size_t i = 0; i < points.size(); i += stride) measured.push_back(static_cast<int>(i));
+  const MlsSurfaces surfaces(points, radius, &measured);
+  std::vector<double> distances(measured.size(), 0.0);  // a point without a fit stays: 0
+  for (std::size_t k = 0; k < measured.size(); ++k) {
+    Vec3 projected, normal;
+    if (surfaces.project(points[measured[k]], projected, normal))
+      distances[k] = (points[measured[k]] - projected).norm();
+  }
+  return median(std::move(distances)) / kHalfNormalMedian;
 }
 
 }  // namespace vmas

@@ -941,25 +941,32 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
       flat.emplace_back(static_cast<int>(by_piece.size()) - 1, j);
   }
   const auto flat_count = static_cast<std::ptrdiff_t>(flat.size());
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
-    PieceSamples& entry = *by_piece[flat[f].first].first;
-    const int piece = by_piece[flat[f].first].second, j = flat[f].second;
-    const Vec3& p = entry.points[j];
-    std::uint64_t& hider = entry.hider[j];
-    if (hider != kUnknown && hider != kNone && solids_now.count(hider)) continue;
-    if (hider == kNone) {
-      const int owner = envelope.owner_solid(piece);
-      fresh_solids.tree->any_containing(p, [&](int k) {
-        const int id = fresh_solids.ids[k];
-        if (id == owner || !envelope.deep_inside(id, p, tolerance)) return false;
-        hider = envelope.solid_key(id);
-        return true;
-      });
-      continue;
+#pragma omp parallel
+  {
+    // Neighbouring samples of a piece are mostly hidden by the same solid. Which hider a sample
+    // records does not matter: only whether it has one while that solid is there.
+    int last_hider = -1;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
+      PieceSamples& entry = *by_piece[flat[f].first].first;
+      const int piece = by_piece[flat[f].first].second, j = flat[f].second;
+      const Vec3& p = entry.points[j];
+      std::uint64_t& hider = entry.hider[j];
+      if (hider != kUnknown && hider != kNone && solids_now.count(hider)) continue;
+      if (hider == kNone) {
+        const int owner = envelope.owner_solid(piece);
+        fresh_solids.tree->any_containing(p, [&](int k) {
+          const int id = fresh_solids.ids[k];
+          if (id == owner || !envelope.deep_inside(id, p, tolerance)) return false;
+          hider = envelope.solid_key(id);
+          return true;
+        });
+        continue;
+      }
+      const int id = envelope.hider(p, piece, tolerance, last_hider);
+      hider = id < 0 ? kNone : envelope.solid_key(id);
+      if (id >= 0) last_hider = id;
     }
-    const int id = envelope.hider(p, piece, tolerance);
-    hider = id < 0 ? kNone : envelope.solid_key(id);
   }
   BoundarySamples boundary;
   std::vector<double*> distances;

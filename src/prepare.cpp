@@ -27,16 +27,11 @@ constexpr std::size_t kMinPointsForNoise = 16;
 constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
 // Fewer points than this would starve the optimisation: a budget below is a mistake.
 constexpr int kMinMaxPoints = 1000;
+// Points at which the smoothing's deviation is measured: a median over a few thousand is stable
+// to a few percent, and fitting the surface at all of them cost as much as the smoothing itself.
+constexpr int kDeviationSamples = 4000;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
-
-// Robust standard deviation of the distances between points and their smoothed positions:
-// the median distance over that of a Gaussian's absolute value.
-double deviation_from(const std::vector<Vec3>& points, const std::vector<Vec3>& smoothed) {
-  std::vector<double> distances(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) distances[i] = (points[i] - smoothed[i]).norm();
-  return median(std::move(distances)) / 0.6745;
-}
 
 // Coordinates are moved to the centre when the offset exceeds this many times the longest side
 // of the bounding box, and scaled when that side is outside [1 / kSizeRange, kSizeRange].
@@ -139,22 +134,18 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     const auto radius_for = [&](double sigma) {
       return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
     };
-    std::vector<Vec3> smoothed = surface.points;
-    report.mls_radius = radius_for(report.noise.sigma);
-    smoothed_normals = smooth_mls(smoothed, report.mls_radius);
     // Local fits read strong noise low (their neighbourhoods hardly reach past it); the distances
-    // to the smoothed surface do not. When they say more, smooth again at their scale.
+    // to the smoothed surface do not. When they say more, smoothing is at their scale.
     if (options.denoise == PrepareOptions::Denoise::Auto) {
       // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
       const double sigma =
-          std::min(deviation_from(surface.points, smoothed), kMaxReestimate * report.noise.sigma);
-      if (sigma > kReestimate * report.noise.sigma) {
-        report.noise.sigma = sigma;
-        smoothed = surface.points;
-        report.mls_radius = radius_for(sigma);
-        smoothed_normals = smooth_mls(smoothed, report.mls_radius);
-      }
+          std::min(mls_deviation(surface.points, radius_for(report.noise.sigma), kDeviationSamples),
+                   kMaxReestimate * report.noise.sigma);
+      if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
     }
+    std::vector<Vec3> smoothed = surface.points;
+    report.mls_radius = radius_for(report.noise.sigma);
+    smoothed_normals = smooth_mls(smoothed, report.mls_radius);
     surface.points = std::move(smoothed);
     report.residual_noise = estimate_noise(surface.points).sigma;
   } else {

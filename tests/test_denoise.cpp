@@ -81,6 +81,23 @@ TEST(DenoiseMls, PullsNoisyPointsBackOntoTheSurface) {
   EXPECT_GT(along_radius, 0.99 * points.size());
 }
 
+TEST(DenoiseMls, DeviationAtSamplesIsTheSmoothingsOwnAtThosePoints) {
+  const Sample s = test::sample_torus(1.0, 0.35, 12000, 12);
+  const std::vector<Vec3> noisy = test::with_noise(s.points, 0.015, 13);
+  std::vector<Vec3> smoothed = noisy;
+  smooth_mls(smoothed, 0.1);
+  std::vector<double> moved(noisy.size());
+  for (std::size_t i = 0; i < noisy.size(); ++i) moved[i] = (noisy[i] - smoothed[i]).norm();
+  const double whole = median(moved) / 0.6745;
+  // At every point: the fits made where the points are equal the whole surface's.
+  EXPECT_EQ(mls_deviation(noisy, 0.1, static_cast<int>(noisy.size())), whole);
+  // At a fifth of them: the same scale (Gaussian noise of 0.015 leaves most of it to remove).
+  const double sampled = mls_deviation(noisy, 0.1, 2400);
+  EXPECT_NEAR(sampled, whole, 0.05 * whole);
+  EXPECT_GT(sampled, 0.6 * 0.015);
+  EXPECT_THROW(mls_deviation(noisy, 0.1, 0), InvalidOption);
+}
+
 // Fraction of prepared normals that agree in sign with the true ones of the points they came
 // from.
 double agreeing_fraction(const PrepareReport& report, const std::vector<Vec3>& normals,

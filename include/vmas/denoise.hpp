@@ -50,4 +50,9 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
 // position and gets a NaN normal (orient_normals repairs it).
 std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 
+// The robust deviation (median distance / 0.6745) by which smooth_mls(points, radius) would move
+// the points, measured at about `samples` of them spread evenly through the array: the surface
+// is fitted only where they are, and each distance is the one smooth_mls gives that point.
+double mls_deviation(const std::vector<Vec3>& points, double radius, int samples);
+
 }  // namespace vmas
