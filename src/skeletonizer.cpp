@@ -113,13 +113,25 @@ bool Skeletonizer::reseed_tiny_clusters() {
   if (tiny.empty()) return false;
   std::stable_sort(donors.begin(), donors.end(),
                    [&](int a, int b) { return worst_errors_[a] > worst_errors_[b]; });
-  const std::size_t moved = std::min(tiny.size(), donors.size());
-  for (std::size_t i = 0; i < moved; ++i) {
-    const int worst = worst_vertex(donors[i]);
-    spheres_[tiny[i]] = projector_.ball_at(worst);
+  // Each tiny sphere becomes the ball at the worst vertex of the next donor, if that ball serves
+  // the vertex better than its own sphere does. On noisy data the worst vertex can be one whose
+  // normal points the wrong way: its ball lies on the wrong side, wins no vertex, and a sphere
+  // left empty at the end is an unconnected piece of the skeleton.
+  bool moved = false;
+  std::size_t next_donor = 0;
+  for (int c : tiny) {
+    while (next_donor < donors.size()) {
+      const int worst = worst_vertex(donors[next_donor++]);
+      const Sphere ball = projector_.ball_at(worst);
+      if (!(vertex_energy(shape_, worst, ball, options_.lambda) < vertex_energies_[worst]))
+        continue;
+      spheres_[c] = ball;
+      moved = true;
+      break;
+    }
   }
-  if (moved > 0) energies_current_ = false;
-  return moved > 0;
+  if (moved) energies_current_ = false;
+  return moved;
 }
 
 int Skeletonizer::worst_vertex(int cluster) const {
