@@ -99,7 +99,7 @@ void Skeletonizer::repartition() {
   refresh_errors(false);  // partition() left E_v of the assigned spheres in vertex_energies_
 }
 
-bool Skeletonizer::reseed_tiny_clusters() {
+bool Skeletonizer::reseed_tiny_clusters(bool serving_balls_only) {
   const int count = static_cast<int>(spheres_.size());
   std::vector<int> tiny;
   std::vector<int> donors;  // clusters that may give up their worst vertex, worst error first
@@ -113,17 +113,16 @@ bool Skeletonizer::reseed_tiny_clusters() {
   if (tiny.empty()) return false;
   std::stable_sort(donors.begin(), donors.end(),
                    [&](int a, int b) { return worst_errors_[a] > worst_errors_[b]; });
-  // Each tiny sphere becomes the ball at the worst vertex of the next donor, if that ball serves
-  // the vertex better than its own sphere does. On noisy data the worst vertex can be one whose
-  // normal points the wrong way: its ball lies on the wrong side, wins no vertex, and a sphere
-  // left empty at the end is an unconnected piece of the skeleton.
+  // Each tiny sphere becomes the ball at the worst vertex of the next donor (with
+  // serving_balls_only: the next whose ball serves that vertex better than its own sphere).
   bool moved = false;
   std::size_t next_donor = 0;
   for (int c : tiny) {
     while (next_donor < donors.size()) {
       const int worst = worst_vertex(donors[next_donor++]);
       const Sphere ball = projector_.ball_at(worst);
-      if (!(vertex_energy(shape_, worst, ball, options_.lambda) < vertex_energies_[worst]))
+      if (serving_balls_only &&
+          !(vertex_energy(shape_, worst, ball, options_.lambda) < vertex_energies_[worst]))
         continue;
       spheres_[c] = ball;
       moved = true;
@@ -349,8 +348,11 @@ void Skeletonizer::final_refit(int round) {
   if (round > 0) {
     repartition();
     // As in step(), but until every cluster is big enough (a few tries): no later step moves
-    // a sphere left with a handful of vertices, and it would end up unconnected.
-    for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(); ++attempt)
+    // a sphere left with a handful of vertices, and it would end up unconnected (an empty one
+    // split the skeleton of noisy meshes). A try that leaves one tiny again has given it a ball
+    // that wins no vertex: on noisy data the worst vertex can be one whose normal points the
+    // wrong way, and its ball lies on the wrong side. Later tries pass over such donors.
+    for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(attempt > 0); ++attempt)
       repartition();
   }
   fit_and_project(options_.final_lambda);

@@ -136,9 +136,12 @@ class Skeletonizer {
   // The coarse start of run() when it applies: runs a skeletonizer on the coarsened shape and
   // takes its spheres; returns its steps (0 when it does not apply).
   int start_coarse(const ProgressCallback& progress, bool& cancelled);
-  void repartition();                   // partition, then refresh members and errors
-  void rebuild_members();               // members_ from labels_
-  bool reseed_tiny_clusters();          // moves spheres with too few vertices; true if any moved
+  void repartition();      // partition, then refresh members and errors
+  void rebuild_members();  // members_ from labels_
+  // Moves spheres with too few vertices to the worst vertices of the worst clusters; true if any
+  // moved. `serving_balls_only`: a donor whose worst vertex its ball would serve worse than the
+  // vertex's own sphere is passed over.
+  bool reseed_tiny_clusters(bool serving_balls_only = false);
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
