@@ -53,6 +53,7 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 // The robust deviation (median distance / 0.6745) by which smooth_mls(points, radius) would move
 // the points, measured at about `samples` of them spread evenly through the array: the surface
 // is fitted only where they are, and each distance is the one smooth_mls gives that point.
+// Throws InvalidOption when samples < 1 or radius <= 0.
 double mls_deviation(const std::vector<Vec3>& points, double radius, int samples);
 
 }  // namespace vmas
