@@ -325,32 +325,30 @@ class MlsSurfaces {
       fitting_points[i] = (*fitting)[i].getVector3fMap().cast<double>();
     tree_.emplace(fitting_points);
 
-    pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal> mls;
-    mls.setInputCloud(fitting);
+    mls_.setInputCloud(fitting);
     if (only) {
       auto nearest = std::make_shared<pcl::Indices>();
       for (int i : *only) nearest->push_back(tree_->nearest(points[i] - centroid_));
       std::sort(nearest->begin(), nearest->end());
       nearest->erase(std::unique(nearest->begin(), nearest->end()), nearest->end());
-      mls.setIndices(nearest);
+      mls_.setIndices(nearest);
     }
-    mls.setSearchMethod(std::make_shared<FlannSearch>(true));
-    mls.setSearchRadius(radius);
-    mls.setPolynomialOrder(2);
-    mls.setCacheMLSResults(true);
+    mls_.setSearchMethod(std::make_shared<FlannSearch>(true));
+    mls_.setSearchRadius(radius);
+    mls_.setPolynomialOrder(2);
+    mls_.setCacheMLSResults(true);
 #ifdef _OPENMP
-    mls.setNumberOfThreads(static_cast<unsigned>(omp_get_max_threads()));
+    mls_.setNumberOfThreads(static_cast<unsigned>(omp_get_max_threads()));
 #endif
     pcl::PointCloud<pcl::PointNormal> fitted;
-    mls.process(fitted);
-    fits_ = mls.getMLSResults();
+    mls_.process(fitted);
   }
 
   // `point` moved onto its surface, and the surface normal there; false when no valid fit.
   bool project(const Vec3& point, Vec3& projected, Vec3& normal) const {
     constexpr int kPolynomialCoefficients = 6;  // order 2
     const Vec3 local = point - centroid_;
-    const pcl::MLSResult& fit = fits_[tree_->nearest(local)];
+    const pcl::MLSResult& fit = mls_.getMLSResults()[tree_->nearest(local)];
     if (!fit.valid) return false;
     const pcl::MLSResult::MLSProjectionResults on =
         fit.projectPoint(local, pcl::MLSResult::SIMPLE, kPolynomialCoefficients);
@@ -363,7 +361,7 @@ class MlsSurfaces {
  private:
   Vec3 centroid_;
   std::optional<KdTree> tree_;  // over the fitting centroids (centred)
-  std::vector<pcl::MLSResult> fits_;
+  pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal> mls_;  // holds the fits
 };
 
 }  // namespace

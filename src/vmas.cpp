@@ -186,7 +186,8 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
     const std::unique_ptr<Evaluator> built = evaluator.get();
     result.refine = refine_worst_served(skeletonizer, *built, options.refine, progress);
     if (result.refine.cancelled) throw Cancelled();
-    result.seconds.refine = seconds_since(refine_start);
+    // The stage's time, waiting for the evaluator included, in both places it is reported.
+    result.seconds.refine = result.refine.seconds = seconds_since(refine_start);
   }
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
   if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)
