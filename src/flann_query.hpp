@@ -14,7 +14,9 @@
 #include <type_traits>
 #include <vector>
 
-namespace vmas::flann_query {
+// Hidden: internal to the library, never exported (src/exports.map exports the vmas API).
+namespace vmas {
+namespace __attribute__((visibility("hidden"))) flann_query {
 
 // The `k` nearest points (k at most the index's size): their ids in found[0, n) and squared
 // distances in squared[0, n), nearest first; returns n.
@@ -107,4 +109,5 @@ std::size_t within_radius(const Index& index, const T* query, T squared_radius,
   return count;
 }
 
-}  // namespace vmas::flann_query
+}  // namespace flann_query
+}  // namespace vmas

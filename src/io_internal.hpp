@@ -20,7 +20,9 @@
 #include "vmas/error.hpp"
 #include "vmas/types.hpp"
 
-namespace vmas::io_internal {
+// Hidden: internal to the library, never exported (src/exports.map exports the vmas API).
+namespace vmas {
+namespace __attribute__((visibility("hidden"))) io_internal {
 
 [[noreturn]] inline void fail(const std::string& path, const std::string& problem) {
   throw IoError(path + ": " + problem);
@@ -285,4 +287,5 @@ SurfaceInput read_pcd(const std::string& path);
 MedialMesh parse_ply_medial(const std::string& path, std::string_view bytes);
 MedialMesh parse_ma(const std::string& path, std::string_view text);
 
-}  // namespace vmas::io_internal
+}  // namespace io_internal
+}  // namespace vmas

@@ -8,7 +8,11 @@
 
 namespace vmas {
 
-using Vec4 = Eigen::Vector4d;
+// Unaligned storage: the layout of an aligned 4-vector or 4x4 matrix depends on the compiler
+// flags (alignment 16 for generic x86-64, 32 with AVX, 64 with AVX-512), so a program built with
+// -march=native would see another Sqem, and another std::vector<Sqem>, than the library.
+using Vec4 = Eigen::Matrix<double, 4, 1, Eigen::DontAlign>;
+using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::DontAlign>;
 
 inline Vec4 to_vec4(const Sphere& s) {
   return Vec4(s.center.x(), s.center.y(), s.center.z(), s.radius);
@@ -16,7 +20,7 @@ inline Vec4 to_vec4(const Sphere& s) {
 inline Sphere to_sphere(const Vec4& s) { return Sphere{s.head<3>(), s.w()}; }
 
 struct Sqem {
-  Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+  Mat4 A = Mat4::Zero();
   Vec4 b = Vec4::Zero();
   double c = 0.0;
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vmas/io.hpp>
 #include <vmas/pcl.hpp>
+#include <vmas/shape.hpp>
 #include <vmas/vmas.hpp>
 
 namespace {
@@ -46,12 +47,28 @@ int fail(const std::string& problem) {
   return 1;
 }
 
+// A Shape built by the library, read through this program's view of the public structs: the
+// containers of a struct whose layout differs (compiler flags that change Eigen's alignment)
+// read as garbage sizes.
+bool shape_layout_agrees() {
+  vmas::SurfaceInput cube;
+  for (int i = 0; i < 8; ++i) cube.points.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  cube.faces = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  const vmas::Shape shape = vmas::build_shape(cube, vmas::ShapeOptions{});
+  const double total = shape.quadric.size() == 8 ? shape.quadric[7].c + shape.quadric[0].A(3, 3)
+                                                 : 0.0;
+  return shape.size() == 8 && shape.quadric.size() == 8 && shape.area.size() == 8 &&
+         std::isfinite(total) && total > 0.0 && std::abs(shape.total_area - 6.0) < 1e-12;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 3 && std::string(argv[1]) == "make-organised") {
     return pcl::io::savePCDFileBinary(argv[2], organised_capsule()) == 0 ? 0 : 1;
   }
+  if (!shape_layout_agrees()) return fail("vmas::Shape from build_shape reads wrong here (ABI)");
   if (argc != 3) return fail("usage: consumer INPUT.pcd OUTPUT.ply | make-organised OUT.pcd");
   pcl::PointCloud<pcl::PointXYZ> cloud;
   if (pcl::io::loadPCDFile(argv[1], cloud) != 0) return fail(std::string("cannot read ") + argv[1]);
