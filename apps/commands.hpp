@@ -3,6 +3,7 @@
 // 0 success, 1 run error, 2 usage error. Errors escape as exceptions; run_command prints them.
 #include <boost/program_options.hpp>
 #include <string>
+#include <vector>
 
 #include "vmas/vmas.hpp"
 
@@ -46,5 +47,9 @@ void finish_run_options(const boost::program_options::variables_map& vm, RunOpti
 // Fails before any work is done when an output cannot possibly be written (a usage error):
 // `check` is vmas::check_output or vmas::check_medial_mesh_output.
 void check_output_option(const std::string& path, void (*check)(const std::string&));
+// Fails before any work when an output is one of the run's inputs or another of its outputs
+// (vmas::check_distinct_files), as a usage error. Empty paths (options not given) are skipped.
+void check_distinct_files_option(const std::vector<std::string>& inputs,
+                                 const std::vector<std::string>& outputs);
 
 }  // namespace vmas::cli

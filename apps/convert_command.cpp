@@ -43,6 +43,7 @@ int convert_command(int argc, const char* const* argv) {
   }
   po::notify(vm);
   if (input.empty() || output.empty()) throw po::error("missing INPUT or OUTPUT");
+  check_distinct_files_option({input}, {output});
 
   std::string summary;
   if (vm.count("medial")) {

@@ -215,6 +215,7 @@ int edit_command(int argc, const char* const* argv) {
   if (port < 0 || port > 65535) throw InvalidOption("port", "must be between 0 and 65535");
   finish_run_options(vm, run_values);
   if (!output.empty()) check_output_option(output, check_medial_mesh_output);
+  check_distinct_files_option({input}, {output});
   const bool exit_on_close = vm.count("exit-on-close") > 0;
 
   // Ctrl-C and TERM are taken by a thread of their own (blocked here, before any thread starts).

@@ -92,9 +92,14 @@ int eval_command(int argc, const char* const* argv) {
   options.validate();
 
   const auto start = std::chrono::steady_clock::now();
+  if (!errors_path.empty()) check_output_option(errors_path, check_output);
+  if (!medial_errors_path.empty()) check_output_option(medial_errors_path, check_output);
+  check_distinct_files_option({shape_path, medial_path}, {errors_path, medial_errors_path});
+
   const SurfaceInput shape = read_surface(shape_path);
   const MedialMesh medial = read_medial_mesh(medial_path);
   const EvalResult result = evaluate(shape, medial, options);
+  std::vector<OutputFile> files;  // written together
   if (!errors_path.empty()) {
     std::string text;
     char line[32];
@@ -102,7 +107,7 @@ int eval_command(int argc, const char* const* argv) {
       std::snprintf(line, sizeof line, "%.9g\n", e);
       text += line;
     }
-    write_file_atomically(errors_path, text);
+    files.push_back({errors_path, std::move(text)});
   }
   if (!medial_errors_path.empty()) {
     std::string text = "# diagonal " + number(result.diagonal) + " hausdorff " +
@@ -118,8 +123,9 @@ int eval_command(int argc, const char* const* argv) {
                     result.boundary_error[i]);
       text += line;
     }
-    write_file_atomically(medial_errors_path, text);
+    files.push_back({medial_errors_path, std::move(text)});
   }
+  if (!files.empty()) write_files_atomically(files);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

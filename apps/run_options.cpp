@@ -130,4 +130,19 @@ void check_output_option(const std::string& path, void (*check)(const std::strin
   }
 }
 
+void check_distinct_files_option(const std::vector<std::string>& inputs,
+                                 const std::vector<std::string>& outputs) {
+  const auto given = [](const std::vector<std::string>& paths) {
+    std::vector<std::string> kept;
+    for (const std::string& path : paths)
+      if (!path.empty()) kept.push_back(path);
+    return kept;
+  };
+  try {
+    check_distinct_files(given(inputs), given(outputs));
+  } catch (const IoError& e) {
+    throw InvalidOption(e.what());
+  }
+}
+
 }  // namespace vmas::cli

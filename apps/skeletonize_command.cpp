@@ -268,8 +268,9 @@ json run_one(const Job& job, const Settings& settings, bool show_progress) {
   }
   if (show_progress) std::fprintf(stderr, "\n");
   const auto write_start = Clock::now();
-  write_medial_mesh(job.output, result.medial_mesh);
-  if (!job.labels.empty()) write_labels(job.labels, result.labels);
+  std::vector<OutputFile> files{{job.output, medial_mesh_file(job.output, result.medial_mesh)}};
+  if (!job.labels.empty()) files.push_back({job.labels, labels_file(result.labels)});
+  write_files_atomically(files);
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
@@ -367,6 +368,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   if (!batch) {
     check_output_option(output, check_medial_mesh_output);
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
+    check_distinct_files_option({inputs[0], inputs_list}, {output, labels_path});
     const Job job{inputs[0], output, labels_path};
     const bool show_progress = !settings.quiet && isatty(fileno(stderr));
     const json summary = run_one(job, settings, show_progress);
@@ -379,6 +381,10 @@ int skeletonize_command(int argc, const char* const* argv) {
 
   // Several inputs: keep going after a failure, one line per file.
   const std::vector<Job> jobs = batch_jobs(inputs, output_dir, format);
+  std::vector<std::string> outputs, read = inputs;
+  for (const Job& job : jobs) outputs.push_back(job.output);
+  read.push_back(inputs_list);
+  check_distinct_files_option(read, outputs);
   int failed = 0;
   for (const Job& job : jobs) {
     try {

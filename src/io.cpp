@@ -19,6 +19,10 @@ void check_readable(const std::string& path) {
   const auto status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status)) fail(path, "no such file");
   if (std::filesystem::is_directory(status)) fail(path, "is a directory");
+  // A FIFO, device or socket would block or never end: refused at once.
+  if (!std::filesystem::is_regular_file(status))
+    fail(path, "is not a regular file (" + io_internal::file_kind(status.type()) +
+                   "); vmas reads regular files only");
   if (std::filesystem::file_size(path, error) == 0 && !error) fail(path, "empty file");
 }
 

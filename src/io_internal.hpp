@@ -42,6 +42,19 @@ inline std::string lower_extension(const std::string& path) {
   return extension;
 }
 
+// What a path that is not a regular file is, for messages: "a FIFO", "a device", ...
+inline std::string file_kind(std::filesystem::file_type type) {
+  switch (type) {
+    case std::filesystem::file_type::fifo: return "a FIFO";
+    case std::filesystem::file_type::block:
+    case std::filesystem::file_type::character: return "a device";
+    case std::filesystem::file_type::socket: return "a socket";
+    case std::filesystem::file_type::directory: return "a directory";
+    case std::filesystem::file_type::symlink: return "a symbolic link";
+    default: return "not a regular file";
+  }
+}
+
 inline bool host_is_little_endian() {
   const std::uint16_t probe = 1;
   char first;

@@ -1,15 +1,8 @@
-// Writers of the IO stage: every file goes through write_file_atomically.
-#include <fcntl.h>
-#include <unistd.h>
-
+// Writers of the IO stage: the files' contents; io_output.cpp puts them in place.
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <random>
 
 #include "io_internal.hpp"
 #include "vmas/io.hpp"
@@ -49,73 +42,7 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
   out += '\n';
 }
 
-// Creates a new empty file beside `path` under a random name (O_EXCL, so no one else uses it;
-// mode 0666 lets umask decide); returns its descriptor, or -1 with errno set.
-int create_temporary(const std::string& path, std::string& temporary) {
-  std::random_device entropy;
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%08x", static_cast<unsigned>(entropy()));
-    temporary = path + suffix;
-    const int descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (descriptor >= 0 || errno != EEXIST) return descriptor;
-  }
-  return -1;  // errno is EEXIST
-}
-
 }  // namespace
-
-void check_output(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) fail(path, "cannot write: is a directory");
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  if (!folder.empty() && !std::filesystem::is_directory(folder, error))
-    fail(path, "cannot write: folder " + quote(folder.string()) + " does not exist");
-  // Only creating a file tells for sure: access(W_OK) passes for root and misses some mounts.
-  std::string temporary;
-  const int descriptor = create_temporary(path, temporary);
-  if (descriptor < 0) {
-    const std::string reason = std::strerror(errno);
-    fail(path, "cannot write in folder " + quote(folder.empty() ? "." : folder.string()) + " (" +
-                   reason + ")");
-  }
-  ::close(descriptor);
-  ::unlink(temporary.c_str());
-}
-
-void check_medial_mesh_output(const std::string& path) {
-  check_output(path);
-  const std::string extension = io_internal::lower_extension(path);
-  if (extension != ".ply" && extension != ".ma")
-    fail(path, "cannot write a medial mesh as " + quote(extension) + " (expected .ply or .ma)");
-}
-
-void write_file_atomically(const std::string& path, const std::string& contents) {
-  check_output(path);
-  const auto failure = [&](const std::string& reason) {
-    fail(path, "cannot write (" + reason + ")");
-  };
-  std::string temporary;
-  const int descriptor = create_temporary(path, temporary);
-  if (descriptor < 0) failure(std::strerror(errno));
-
-  std::string problem;
-  for (std::size_t written = 0; written < contents.size() && problem.empty();) {
-    const ssize_t result =
-        ::write(descriptor, contents.data() + written, contents.size() - written);
-    if (result >= 0)
-      written += static_cast<std::size_t>(result);
-    else if (errno != EINTR)
-      problem = std::strerror(errno);
-  }
-  if (::close(descriptor) != 0 && problem.empty()) problem = std::strerror(errno);
-  if (problem.empty() && std::rename(temporary.c_str(), path.c_str()) != 0)
-    problem = std::strerror(errno);
-  if (!problem.empty()) {
-    ::unlink(temporary.c_str());
-    failure(problem);
-  }
-}
 
 void write_surface(const std::string& path, const SurfaceInput& surface) {
   const std::string extension = io_internal::lower_extension(path);
@@ -192,7 +119,7 @@ bool needs_double(const std::vector<Sphere>& spheres) {
 
 }  // namespace
 
-void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
+std::string medial_mesh_file(const std::string& path, const MedialMesh& mesh) {
   check_medial_mesh_output(path);
   const std::string extension = io_internal::lower_extension(path);
   std::string out;
@@ -238,13 +165,21 @@ void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
       out += "f " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
              std::to_string(face[2]) + "\n";
   }
-  write_file_atomically(path, out);
+  return out;
+}
+
+void write_medial_mesh(const std::string& path, const MedialMesh& mesh) {
+  write_file_atomically(path, medial_mesh_file(path, mesh));
+}
+
+std::string labels_file(const std::vector<int>& labels) {
+  std::string out;
+  for (int label : labels) out += std::to_string(label) + "\n";
+  return out;
 }
 
 void write_labels(const std::string& path, const std::vector<int>& labels) {
-  std::string out;
-  for (int label : labels) out += std::to_string(label) + "\n";
-  write_file_atomically(path, out);
+  write_file_atomically(path, labels_file(labels));
 }
 
 }  // namespace vmas

@@ -1,5 +1,6 @@
 // The `vmas` command line: exit codes, one-line errors, no output left behind on failure.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <filesystem>
@@ -20,6 +21,7 @@ namespace fs = std::filesystem;
 
 using Result = test::CliResult;
 using test::expect_one_line_error;
+using test::read_text;
 
 class Cli : public test::CliTest {
  protected:
@@ -165,6 +167,53 @@ TEST_F(Cli, BatchUsageErrors) {
   EXPECT_EQ(r.exit_code, 2);
   expect_one_line_error(r, "would both be written");
   EXPECT_EQ(run("skeletonize " + path("a.off") + " --output-dir " + path("missing")).exit_code, 2);
+}
+
+// Every command refuses, before any work, an output that is one of its inputs (however
+// spelled) or another of its outputs; the inputs stay as they were.
+TEST_F(Cli, NoCommandWritesOverItsInput) {
+  write_surface(path("a.ply"), test::capsule(0.2, 1.0, 8, 24));
+  write_surface(path("b.ply"), test::icosphere(Vec3::Zero(), 1.0, 2));
+  write_medial_mesh(path("m.ply"), MedialMesh{{{Vec3::Zero(), 0.5}}, {}, {}});
+  const std::string a = read_text(path("a.ply")), b = read_text(path("b.ply"));
+  fs::create_hard_link(path("a.ply"), path("hard.ply"));
+  const std::string a_again = dir_.string() + "/./a.ply";
+  for (const std::string arguments :
+       {"skeletonize " + path("a.ply") + " " + path("b.ply") + " -n 2 --output-dir " + dir_.string(),
+        "skeletonize " + path("a.ply") + " -n 2 -o " + a_again,
+        "skeletonize " + path("a.ply") + " -n 2 -o " + path("hard.ply"),
+        "skeletonize " + path("a.ply") + " -n 2 -o " + path("s.ply") + " --labels " + path("a.ply"),
+        "skeletonize " + path("a.ply") + " -n 2 -o " + path("y.ply") + " --labels " + path("y.ply"),
+        "eval " + path("a.ply") + " " + path("m.ply") + " --errors " + path("m.ply"),
+        "eval " + path("a.ply") + " " + path("m.ply") + " --errors " + path("e.txt") +
+            " --medial-errors " + path("e.txt"),
+        "convert " + path("a.ply") + " " + a_again, "edit " + path("a.ply") + " -o " + a_again}) {
+    const Result r = run(arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.err;
+    expect_one_line_error(r, "of this run");
+    EXPECT_TRUE(r.out.empty()) << arguments;
+  }
+  EXPECT_EQ(read_text(path("a.ply")), a);
+  EXPECT_EQ(read_text(path("b.ply")), b);
+  EXPECT_FALSE(fs::exists(path("s.ply")) || fs::exists(path("y.ply")) || fs::exists(path("e.txt")));
+}
+
+// --labels on a device or FIFO is refused before the run; neither is replaced.
+TEST_F(Cli, SpecialFilesAreNeverReplaced) {
+  write_surface(path("a.ply"), test::capsule(0.2, 1.0, 8, 24));
+  ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
+  for (const std::string target : {std::string("/dev/null"), path("fifo")}) {
+    const Result r = run("skeletonize " + path("a.ply") + " -n 2 -o " + path("s.ply") +
+                         " --labels " + target);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    expect_one_line_error(r, "regular files only");
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_fifo(path("fifo")));
+  const Result r = run("skeletonize " + path("fifo") + " -n 2 -o " + path("s.ply"));
+  EXPECT_EQ(r.exit_code, 1);  // at once, not a hang
+  expect_one_line_error(r, "not a regular file");
+  EXPECT_FALSE(fs::exists(path("s.ply")));
 }
 
 TEST_F(Cli, OptionErrorsNameTheFlagAsTyped) {

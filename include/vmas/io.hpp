@@ -39,17 +39,36 @@ void write_surface(const std::string& path, const SurfaceInput& surface);
 // beyond +-1e150 are an IoError.
 MedialMesh read_medial_mesh(const std::string& path);
 void write_medial_mesh(const std::string& path, const MedialMesh& mesh);
+// The bytes write_medial_mesh would write to `path` (its format by the extension).
+std::string medial_mesh_file(const std::string& path, const MedialMesh& mesh);
 
-// One cluster label per input point, one integer per line.
+// One cluster label per input point, one integer per line; labels_file gives the bytes.
 void write_labels(const std::string& path, const std::vector<int>& labels);
+std::string labels_file(const std::vector<int>& labels);
 
-// Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
+// Every writer lands its file like this: written to a temporary beside the target, then renamed
+// over it (a symbolic link stays a link: its target is replaced, with the target's mode). The
+// files of one call land together or not at all: on any failure, also SIGINT, SIGTERM or
+// SIGHUP during the write (the signal then takes its course) and a file size limit ("file too
+// large"), no temporary is left and every earlier file at those paths is intact. Throws IoError
+// naming the path.
+struct OutputFile {
+  std::string path;
+  std::string contents;
+};
+void write_files_atomically(const std::vector<OutputFile>& files);
 void write_file_atomically(const std::string& path, const std::string& contents);
 
 // Throw the IoError the matching writer would, without writing: for front ends that must fail
-// before a long run. check_output: `path` is a directory or its folder does not exist;
-// check_medial_mesh_output also: the extension is not .ply or .ma.
+// before a long run. check_output: `path` (or its link's target) is a directory, a device, FIFO
+// or socket, or its folder does not exist or cannot be written; check_medial_mesh_output also:
+// the extension is not .ply or .ma.
 void check_output(const std::string& path);
 void check_medial_mesh_output(const std::string& path);
+
+// Throws IoError naming the output when an output is the same file as an input (by identity:
+// hard links and other spellings included) or as another output. Call it before any work.
+void check_distinct_files(const std::vector<std::string>& inputs,
+                          const std::vector<std::string>& outputs);
 
 }  // namespace vmas
