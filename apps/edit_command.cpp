@@ -83,7 +83,7 @@ json preparation_summary(const Result& prepared, int points) {
           {"thinned_from", report.thinned_from},
           {"outliers", report.outliers},
           {"noise_percent", std::round(1e4 * report.noise.sigma / diagonal) / 1e2},
-          {"smoothed", report.mls_radius > 0.0},
+          {"smoothed", report.smoothed()},
           {"warnings", warnings}};
 }
 

@@ -90,6 +90,7 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                   {"normals", normals},
                   {"cleaned",
                    {{"non_finite_points", result.clean.non_finite_points},
+                    {"missing_normals", result.clean.missing_normals},
                     {"duplicate_points", result.clean.duplicate_points},
                     {"degenerate_faces", result.clean.degenerate_faces},
                     {"unused_vertices", result.clean.unused_points}}},
@@ -102,14 +103,15 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                    {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
                     {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
                     {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
-                    {"smoothed", prepared.mls_radius > 0.0},
+                    {"smoothed", prepared.smoothed()},
                     {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
-                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
-                    {"faces_dropped", prepared.faces_dropped}}},
+                    {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
+                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)}}},
                   {"diagonal", diagonal},
                   {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
                   {"components",
                    {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
+                  {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
                   {"spheres", result.medial_mesh.spheres.size()},
                   {"edges", result.medial_mesh.edges.size()},
                   {"medial_faces", result.medial_mesh.faces.size()},
@@ -162,6 +164,9 @@ void print_summary(const json& s, const Settings& settings) {
     std::cout << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
               << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
               << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
+  if (cleaned["missing_normals"].get<int>() > 0)
+    std::cout << "normals: " << cleaned["missing_normals"]
+              << " points without a valid normal in the file got an estimated one\n";
   const json& thinning = s["thinning"];
   if (thinning["applied"].get<bool>())
     std::cout << "thinned: " << thinning["points"] << " points take part (one per voxel of "
@@ -172,13 +177,13 @@ void print_summary(const json& s, const Settings& settings) {
   if (noise["measured"].get<bool>())
     std::cout << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
               << noise["spacing_percent"] << " %)"
-              << (noise["smoothed"].get<bool>()
-                      ? "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() +
-                            " %, left ~" + noise["residual_percent"].dump() + " %)"
-                      : std::string("; not smoothed"))
+              << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
+                  : noise["mesh_smoothing_steps"].get<int>() > 0
+                      ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
+                            " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
+                      : "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() +
+                            " %, left ~" + noise["residual_percent"].dump() + " %)")
               << "\n";
-  if (noise["faces_dropped"].get<bool>())
-    std::cout << "faces: dropped (the smoothed vertices go on as a point cloud)\n";
   const std::string normals = s["normals"];
   if (normals == "estimated" || normals == "re-oriented")
     std::cout << "normals: "

@@ -21,6 +21,10 @@ Vec3 unit(const Vec3& n) {
   return std::abs(norm - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon() ? n : n / norm;
 }
 
+bool has_normal(const Vec3& n) { return n.allFinite() && n.stableNorm() > 0.0; }
+
+constexpr double kNoNormal = std::numeric_limits<double>::quiet_NaN();
+
 }  // namespace
 
 CleanReport clean_surface(SurfaceInput& surface) {
@@ -42,13 +46,12 @@ CleanReport clean_surface(SurfaceInput& surface) {
                 << " out of range (must be finite and at most 1e150 in magnitude)";
         throw InvalidInput(problem.str());
       }
-    const bool finite = points[i].allFinite() &&
-                        (!with_normals ||
-                         (surface.normals[i].allFinite() && surface.normals[i].stableNorm() > 0.0));
-    if (finite)
-      usable.push_back(i);
-    else
+    if (!points[i].allFinite()) {
       ++report.non_finite_points;
+      continue;
+    }
+    usable.push_back(i);
+    if (with_normals && !has_normal(surface.normals[i])) ++report.missing_normals;
   }
 
   // Sorting by coordinates, then by index, makes the first occurrence of each point its
@@ -109,7 +112,14 @@ CleanReport clean_surface(SurfaceInput& surface) {
     new_index[i] = static_cast<int>(cleaned.points.size());
     report.kept.push_back(static_cast<int>(i));
     cleaned.points.push_back(points[i]);
-    if (with_normals) cleaned.normals.push_back(unit(surface.normals[i]));
+    if (with_normals)
+      cleaned.normals.push_back(has_normal(surface.normals[i]) ? unit(surface.normals[i])
+                                                               : Vec3::Constant(kNoNormal));
+  }
+  // Not one normal given: a plain cloud.
+  if (with_normals && report.missing_normals == usable.size()) {
+    cleaned.normals.clear();
+    report.missing_normals = 0;
   }
   for (const auto& corners : faces)
     cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});

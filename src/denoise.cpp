@@ -12,6 +12,7 @@
 // small job. Only libpcl_common is linked.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -395,6 +396,46 @@ double mls_deviation(const std::vector<Vec3>& points, double radius, int samples
       distances[k] = (points[measured[k]] - projected).norm();
   }
   return median(std::move(distances)) / kHalfNormalMedian;
+}
+
+void smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+                 int steps) {
+  const int count = static_cast<int>(points.size());
+  // Each vertex's edge neighbours, once each (CSR).
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(6 * faces.size());
+  for (const auto& face : faces)
+    for (int c = 0; c < 3; ++c) {
+      edges.emplace_back(face[c], face[(c + 1) % 3]);
+      edges.emplace_back(face[(c + 1) % 3], face[c]);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<int> offsets(count + 1, 0);
+  for (const auto& edge : edges) ++offsets[edge.first + 1];
+  for (int v = 0; v < count; ++v) offsets[v + 1] += offsets[v];
+
+  constexpr double kLambda = 0.5, kMu = -0.53;
+  std::vector<Vec3> moved(points.size());
+  const auto pass = [&](double weight) {
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < count; ++v) {
+      const int first = offsets[v], last = offsets[v + 1];
+      if (first == last) {
+        moved[v] = points[v];
+        continue;
+      }
+      Vec3 mean = Vec3::Zero();
+      for (int e = first; e < last; ++e) mean += points[edges[e].second];
+      mean /= static_cast<double>(last - first);
+      moved[v] = points[v] + weight * (mean - points[v]);
+    }
+    points.swap(moved);
+  };
+  for (int step = 0; step < steps; ++step) {
+    pass(kLambda);
+    pass(kMu);
+  }
 }
 
 }  // namespace vmas

@@ -365,6 +365,48 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
   return normals;
 }
 
+void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
+                          const NormalOptions& options) {
+  options.validate();
+  const auto missing = [&](std::size_t i) {
+    return !normals[i].allFinite() || !(normals[i].squaredNorm() > 0.0);
+  };
+  std::vector<int> wanted;
+  for (std::size_t i = 0; i < normals.size(); ++i)
+    if (missing(i)) wanted.push_back(static_cast<int>(i));
+  if (wanted.empty()) return;
+  check_enough_points(static_cast<int>(points.size()), options.k, "estimate normals");
+  const KdTree tree(points);
+  const Vec3 centroid = centroid_of(points);
+  std::vector<Vec3> filled(wanted.size());
+#pragma omp parallel
+  {
+    std::vector<int> row;
+    std::vector<double> squared;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t w = 0; w < static_cast<std::ptrdiff_t>(wanted.size()); ++w) {
+      const int i = wanted[w];
+      tree.k_nearest(points[i], options.k + 1, row, squared);
+      Vec3 mean = Vec3::Zero();
+      for (int j : row) mean += points[j];
+      mean /= static_cast<double>(row.size());
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (int j : row) covariance += (points[j] - mean) * (points[j] - mean).transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+      Vec3 normal = eigen.eigenvectors().col(0);
+      if (eigen.info() != Eigen::Success || !normal.allFinite()) normal = points[i] - centroid;
+      // The sign the neighbours' own normals agree on (away from the centroid if none has one).
+      double vote = 0.0;
+      for (int j : row)
+        if (!missing(j)) vote += normal.dot(normals[j]);
+      if (vote == 0.0) vote = normal.dot(points[i] - centroid);
+      filled[w] = (vote < 0.0 ? -normal : normal).normalized();
+      if (!filled[w].allFinite()) filled[w] = Vec3::UnitZ();
+    }
+  }
+  for (std::size_t w = 0; w < wanted.size(); ++w) normals[wanted[w]] = filled[w];
+}
+
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
   NormalOptions{k}.validate();
   if (normals.size() != points.size())

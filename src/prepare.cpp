@@ -30,6 +30,8 @@ constexpr int kMinMaxPoints = 1000;
 // Points at which the smoothing's deviation is measured: a median over a few thousand is stable
 // to a few percent, and fitting the surface at all of them cost as much as the smoothing itself.
 constexpr int kDeviationSamples = 4000;
+// Pairs of Taubin passes for a noisy mesh (smooth_mesh).
+constexpr int kMeshSmoothingSteps = 40;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
 
@@ -128,7 +130,13 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   }
 
   std::vector<Vec3> smoothed_normals;
-  if (noisy) {
+  if (noisy && !cloud) {
+    // A noisy mesh stays a mesh: its faces say what the surface connects, whatever the
+    // vertices' noise (and a closed one stays closed).
+    report.mesh_smoothing_steps = kMeshSmoothingSteps;
+    smooth_mesh(surface.points, surface.faces, report.mesh_smoothing_steps);
+    report.residual_noise = estimate_noise(surface.points).sigma;
+  } else if (noisy) {
     // The support must hold enough samples for a quadric fit even when the noise is far below
     // the spacing.
     const auto radius_for = [&](double sigma) {
@@ -143,25 +151,16 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
                    kMaxReestimate * report.noise.sigma);
       if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
     }
-    std::vector<Vec3> smoothed = surface.points;
     report.mls_radius = radius_for(report.noise.sigma);
-    smoothed_normals = smooth_mls(smoothed, report.mls_radius);
-    surface.points = std::move(smoothed);
+    smoothed_normals = smooth_mls(surface.points, report.mls_radius);
     report.residual_noise = estimate_noise(surface.points).sigma;
   } else {
     report.residual_noise = report.noise.sigma;
   }
 
-  if (!cloud && noisy) {
-    // Vertices moved one by one fold the faces between them, and folded faces give wrong
-    // normals, areas and quadrics: the smoothed vertices go on as a cloud, with the normals of
-    // the smoothed surface.
-    surface.faces.clear();
-    report.faces_dropped = true;
-  }
   // A mesh's normals, areas and quadrics come from its faces.
   if (!surface.is_mesh()) {
-    if (noisy && (!surface.has_normals() || options.estimate_normals || report.faces_dropped)) {
+    if (noisy && (!surface.has_normals() || options.estimate_normals)) {
       // The MLS normals are those of the smoothed surface at the noise's scale: better than a
       // fresh fit to a few neighbours; only their signs are missing.
       surface.normals = std::move(smoothed_normals);
@@ -173,6 +172,8 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     } else if (options.orient_normals) {
       orient_normals(surface.points, surface.normals, options.normals.k);
       report.normals_oriented = true;
+    } else {
+      fill_missing_normals(surface.points, surface.normals, options.normals);
     }
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -180,7 +181,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
 }
 
 void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options) {
-  if (!(report.diagonal > 0.0) || report.mls_radius == 0.0) return;
+  if (!(report.diagonal > 0.0) || !report.smoothed()) return;
   options.tolerance = std::clamp(2.0 * report.residual_noise / report.diagonal, options.tolerance,
                                  kMaxBallTolerance);
   options.reject_outside = true;

@@ -215,14 +215,17 @@ int Skeletonizer::sphere_cap() const {
   return std::min(options_.max_spheres, shape_.size());
 }
 
+bool Skeletonizer::misses_error_threshold() const {
+  const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
+  for (std::size_t c = 0; c < spheres_.size(); ++c)
+    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
+  return false;
+}
+
 bool Skeletonizer::wants_more_spheres() const {
   const int count = static_cast<int>(spheres_.size());
   if (options_.target_spheres > 0) return count < options_.target_spheres;
-  if (count >= sphere_cap()) return false;
-  const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
-  for (int c = 0; c < count; ++c)
-    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
-  return false;
+  return count < sphere_cap() && misses_error_threshold();
 }
 
 int Skeletonizer::split() {
@@ -281,6 +284,8 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
         summary.iterations == options_.max_iterations && !summary.converged;
     summary.spheres = static_cast<int>(spheres_.size());
     summary.error = total_error_;
+    summary.error_threshold_missed = options_.target_spheres == 0 &&
+                                     summary.spheres >= sphere_cap() && misses_error_threshold();
     return summary;
   };
   const int coarse_iterations = start_coarse(progress, summary.cancelled);

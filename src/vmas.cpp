@@ -61,6 +61,9 @@ SkeletonizerOptions run_options(const Options& options) {
   return run;
 }
 
+// A measured error above this fraction of the diagonal is a warning (large-error).
+constexpr double kLargeError = 0.05;
+
 // outward_flux below this: most normals point inward (0 for flat data or random signs).
 constexpr double kClearlyInward = -0.1;
 
@@ -94,7 +97,22 @@ std::vector<Warning> warnings_about(const Result& result) {
     warnings.push_back(
         {"split-skeleton", "the skeleton has " + std::to_string(result.skeleton_components) +
                                " components, the input " + std::to_string(result.input_components) +
-                               ": a thin part may have lost its spheres"});
+                               ": a thin part may have lost its spheres; more spheres "
+                               "(--spheres) usually join them"});
+  if (result.measured_error > kLargeError) {
+    char figure[32];
+    std::snprintf(figure, sizeof figure, "%.2f", 100.0 * result.measured_error);
+    warnings.push_back(
+        {"large-error", std::string("the skeleton is ") + figure +
+                            " % of the diagonal away from the data at its worst (two-sided "
+                            "Hausdorff distance, as vmas eval measures it): more spheres "
+                            "(--spheres) or a smaller --lambda fit the shape closer"});
+  }
+  if (result.summary.error_threshold_missed)
+    warnings.push_back(
+        {"target-not-reached", "the error threshold was not reached: the run stopped at " +
+                                   std::to_string(result.summary.spheres) +
+                                   " spheres (--max-spheres, and never more than points)"});
   return warnings;
 }
 
@@ -169,6 +187,7 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   const auto start = Clock::now();
   const std::size_t input_points = input.points.size();
   PreparedShape prepared = prepare_with_progress(std::move(input), options, progress);
+  const bool prepared_is_mesh = prepared.surface.is_mesh();
   Result result = std::move(prepared.result);
   const SkeletonizerOptions run = prepared.run;
   Skeletonizer skeletonizer(std::move(prepared.shape), run);
@@ -188,7 +207,13 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
     if (result.refine.cancelled) throw Cancelled();
     // The stage's time, waiting for the evaluator included, in both places it is reported.
     result.seconds.refine = result.refine.seconds = seconds_since(refine_start);
+    result.measured_error = result.refine.error_after;
+  } else {
+    result.measured_error =
+        Evaluator(prepared.surface, refinement_eval_options())(skeletonizer.medial_mesh())
+            .hausdorff;
   }
+  if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
   if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)
     throw InvalidInput("cannot place " + std::to_string(run.target_spheres) + " spheres on " +
@@ -199,7 +224,14 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   result.medial_mesh = result.prepare.frame.to_input(skeletonizer.medial_mesh());
   result.skeleton_components = component_count(result.medial_mesh);
   result.seconds.connectivity = seconds_since(connectivity_start);
-  result.enclosure = skeletonizer.projector().enclosure();
+  // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
+  // number is exactly 1 inside, however long and thin its triangles (the estimate from the
+  // vertices' areas and normals is not, next to such triangles).
+  const MeshDefects& defects = result.mesh_defects;
+  const bool watertight = prepared_is_mesh &&
+                          defects.boundary_edges == 0 && defects.non_manifold_edges == 0 &&
+                          defects.misoriented_edges == 0;
+  result.enclosure = watertight ? 1.0 : skeletonizer.projector().enclosure();
 
   // Labels of the shape's vertices, back through preparation and cleaning to the input.
   result.labels.assign(input_points, -1);

@@ -124,8 +124,15 @@ TEST_F(Cli, WarningsAreInTheJsonToo) {
   const Result r = run("skeletonize " + path("plane.xyz") + " -n 3 --json -o " + path("out.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto warnings = nlohmann::json::parse(r.out)["warnings"];
-  ASSERT_EQ(warnings.size(), 1u) << warnings.dump();
+  // A flat square: open, and three spheres cannot come near it (the measured error says so).
+  ASSERT_EQ(warnings.size(), 2u) << warnings.dump();
   EXPECT_EQ(warnings[0]["code"], "open-surface");
+  EXPECT_EQ(warnings[1]["code"], "large-error");
+  const double measured = nlohmann::json::parse(r.out)["measured_error_percent"];
+  EXPECT_GT(measured, 5.0);
+  const std::string message = warnings[1]["message"];
+  EXPECT_NEAR(std::stod(message.substr(message.find_first_of("0123456789"))), measured, 0.01)
+      << message;
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
 }
 

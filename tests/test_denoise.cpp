@@ -9,6 +9,7 @@
 #include "vmas/denoise.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"
+#include "vmas/vmas.hpp"
 #include "vmas/skeletonizer.hpp"
 
 namespace vmas {
@@ -141,6 +142,33 @@ TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
     EXPECT_LE(reach, radius + report.noise.sigma)
         << "sphere at " << s.center.transpose() << ", radius " << s.radius;
   }
+}
+
+// A noisy mesh stays a mesh: every face kept, the vertices pulled back towards the surface, and
+// the result judged closed.
+TEST(PrepareNoisy, NoisyMeshKeepsItsFacesAndStaysClosed) {
+  SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
+  const double diagonal = test::bounding_diagonal(mesh.points);
+  mesh.points = test::with_noise(mesh.points, 0.01 * diagonal, 21);
+  const auto rms_off_sphere = [](const std::vector<Vec3>& points) {
+    double sum = 0.0;
+    for (const Vec3& p : points) sum += std::pow(p.norm() - 1.0, 2);
+    return std::sqrt(sum / points.size());
+  };
+  const double before = rms_off_sphere(mesh.points);
+  const std::size_t faces = mesh.faces.size();
+  SurfaceInput prepared = mesh;
+  const PrepareReport report = prepare_surface(prepared, {});
+  EXPECT_GT(report.mesh_smoothing_steps, 0);
+  EXPECT_TRUE(report.smoothed());
+  EXPECT_EQ(prepared.faces.size(), faces);
+  EXPECT_LT(rms_off_sphere(prepared.points), 0.5 * before);
+
+  Options options;
+  options.spheres = 4;
+  const Result result = skeletonize(mesh, options);
+  EXPECT_GE(result.enclosure, 0.8);
+  EXPECT_EQ(result.skeleton_components, 1);
 }
 
 TEST(PrepareClean, MeshAndCleanCloudAreLeftAsTheyAre) {

@@ -306,12 +306,15 @@ TEST_F(IoOff, NoffCloudWithNormalsAndMissingOnes) {
   EXPECT_EQ(cloud.normals[0], Vec3(0, 0, 1));
   EXPECT_EQ(cloud.normals[2], Vec3(1, 0, 0));
 
-  // A point whose normal is missing while others have one cannot be trusted: it is dropped.
+  // A point whose normal is missing while others have one keeps its place; its normal is NaN
+  // until preparation estimates it.
   const std::string partial = write("p.off", "NOFF 3 0\n0 0 0 0 0 1\n1 0 0\n2 0 0 1 0 0\n");
   CleanReport report;
   const SurfaceInput kept = read_surface(partial, &report);
-  EXPECT_EQ(kept.points.size(), 2u);
-  EXPECT_EQ(report.non_finite_points, 1u);
+  EXPECT_EQ(kept.points.size(), 3u);
+  EXPECT_EQ(report.non_finite_points, 0u);
+  EXPECT_EQ(report.missing_normals, 1u);
+  EXPECT_TRUE(std::isnan(kept.normals[1].x()));
 
   // NOFF without any normal (seen in real files) loads as a plain cloud.
   const std::string none = write("z.off", "NOFF\n2 0\n0 0 0\n1 0 0\n");
@@ -392,9 +395,11 @@ TEST_F(IoPcd, OrganizedCloudWithNanAndNormals) {
             "2 0 0 0 0 0\n");
   CleanReport report;
   const SurfaceInput cloud = read_surface(file, &report);
-  ASSERT_EQ(cloud.points.size(), 2u);
-  EXPECT_EQ(report.non_finite_points, 2u);  // the NaN point and the zero normal
+  ASSERT_EQ(cloud.points.size(), 3u);
+  EXPECT_EQ(report.non_finite_points, 1u);  // the NaN point; the zero normal's point stays
+  EXPECT_EQ(report.missing_normals, 1u);
   EXPECT_EQ(cloud.normals[1], Vec3(0, 1, 0));
+  EXPECT_TRUE(std::isnan(cloud.normals[2].x()));
 }
 
 TEST_F(IoPcd, XyzOnlyAndTruncatedBinary) {
@@ -518,20 +523,24 @@ TEST(IoClean, CleaningTwiceChangesNothing) {
   EXPECT_EQ(cloud.normals, once.normals);
 }
 
-TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndDropsZeroNormals) {
+TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndPointsWithoutNormals) {
   SurfaceInput cloud;
-  cloud.points = {Vec3(3, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0), Vec3(0, 0, 0)};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  cloud.points = {Vec3(3, 0, 0), Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0), Vec3(0, 0, 0),
+                  Vec3(nan, 0, 0)};
   cloud.normals = {Vec3(0, 0, 2), Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 0),
-                   Vec3(0, std::numeric_limits<double>::infinity(), 0)};
+                   Vec3(0, std::numeric_limits<double>::infinity(), 0), Vec3(1, 0, 0)};
   const CleanReport report = clean_surface(cloud);
-  EXPECT_EQ(report.non_finite_points, 2u);
+  EXPECT_EQ(report.non_finite_points, 1u);
+  EXPECT_EQ(report.missing_normals, 2u);
   EXPECT_EQ(report.duplicate_points, 1u);
   EXPECT_EQ(report.unused_points, 0u);
-  const std::vector<Vec3> points = {Vec3(3, 0, 0), Vec3(1, 0, 0)};
-  const std::vector<Vec3> normals = {Vec3(0, 0, 1), Vec3(0, 1, 0)};
+  const std::vector<Vec3> points = {Vec3(3, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 0, 0)};
   EXPECT_EQ(cloud.points, points);
-  EXPECT_EQ(cloud.normals, normals);
-  EXPECT_EQ(report.kept, (std::vector<int>{0, 1}));
+  EXPECT_EQ(cloud.normals[0], Vec3(0, 0, 1));
+  EXPECT_EQ(cloud.normals[1], Vec3(0, 1, 0));
+  EXPECT_TRUE(std::isnan(cloud.normals[2].x()) && std::isnan(cloud.normals[3].x()));
+  EXPECT_EQ(report.kept, (std::vector<int>{0, 1, 3, 4}));
 }
 
 // ---------------------------------------------------------------------------------------------

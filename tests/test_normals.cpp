@@ -246,5 +246,24 @@ TEST(NormalsRealData, MergedBunnyIsConsistentAndOutward) {
   EXPECT_GT(agreeing_fraction, 0.97);
 }
 
+// A file with normals for most points: the missing ones (NaN, zero) are estimated with the
+// sign of their neighbours, the given ones stay exactly as they were.
+TEST(FillMissingNormals, EstimatesOnlyTheMissingOnesWithTheirNeighboursSign) {
+  const Sample sphere = sample_sphere(Vec3(0.2, -0.1, 0.3), 0.8, 3000, 5);
+  std::vector<Vec3> normals = sphere.normals;
+  for (std::size_t i = 0; i < normals.size(); i += 7)
+    normals[i] = i % 2 ? Vec3::Zero() : Vec3::Constant(std::nan(""));
+  fill_missing_normals(sphere.points, normals, NormalOptions{});
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    if (i % 7 != 0) {
+      EXPECT_EQ(normals[i], sphere.normals[i]);
+      continue;
+    }
+    ASSERT_TRUE(normals[i].allFinite());
+    EXPECT_NEAR(normals[i].norm(), 1.0, 1e-12);
+    EXPECT_GT(normals[i].dot(sphere.normals[i]), 0.99) << i;
+  }
+}
+
 }  // namespace
 }  // namespace vmas

@@ -14,7 +14,9 @@ constexpr double kMaxCoordinate = 1e150;
 
 // What clean_surface() removed so that the shape is usable (duplicates, NaN/Inf, degenerate faces).
 struct CleanReport {
-  std::size_t non_finite_points = 0;  // points with a NaN coordinate or a NaN/Inf normal (dropped)
+  std::size_t non_finite_points = 0;  // points with a NaN coordinate (dropped)
+  std::size_t missing_normals = 0;    // kept points whose normal is NaN, infinite or zero (left
+                                      // NaN: preparation estimates it)
   std::size_t duplicate_points = 0;   // points at the same coordinates as an earlier one (merged)
   std::size_t degenerate_faces = 0;   // faces with a repeated or dropped vertex, or zero area
   std::size_t unused_points = 0;      // mesh vertices referenced by no face (dropped)
@@ -24,10 +26,10 @@ struct CleanReport {
   }
 };
 
-// Removes points with a NaN coordinate (scanners' "no point here") or a non-finite normal,
-// merges exact duplicates (remapping faces), drops degenerate faces and, for meshes,
-// unreferenced vertices. Normals are renormalised; zero normals count as non-finite, so such
-// points are dropped. Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
+// Removes points with a NaN coordinate (scanners' "no point here"), merges exact duplicates
+// (remapping faces), drops degenerate faces and, for meshes, unreferenced vertices. Normals are
+// renormalised; a point whose normal is NaN, infinite or zero keeps its place with a NaN normal
+// (preparation estimates it; when no point has one, the cloud has no normals). Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
 // points stay in input order, each duplicate group keeping its first point.
 // Throws InvalidInput if `normals` is neither empty nor one per point, or if a coordinate is
 // infinite or beyond +-1e150 (squared distances would overflow).

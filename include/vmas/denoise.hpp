@@ -1,7 +1,9 @@
 #pragma once
 // Scan noise: how much there is (a robust scale of the residuals to local quadric fits), and
 // its removal before normals and skeleton are computed: statistical outlier removal and
-// moving-least-squares projection (both from PCL).
+// moving-least-squares projection (both from PCL) for clouds, smoothing along the faces for
+// meshes.
+#include <array>
 #include <vector>
 
 #include "vmas/types.hpp"
@@ -49,6 +51,16 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
 // returns the unoriented surface normals there. A point without a valid fit nearby keeps its
 // position and gets a NaN normal (orient_normals repairs it).
 std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
+
+// Smooths a noisy mesh's vertices along its own faces and keeps the faces: Taubin's λ|μ filter
+// (λ = 0.5, μ = −0.53: a low-pass filter that does not shrink the shape as plain Laplacian
+// smoothing does), `steps` pairs of passes with uniform weights over each vertex's edge
+// neighbours. The faces say which vertices belong to the same sheet, so the two sides of a thin
+// part never merge (they do under a smoothing by distance, such as MLS), and the uniform weights
+// also even out the vertices along the surface, which unfolds faces that noise has folded.
+// Vertices on no edge stay. Deterministic whatever the thread count.
+void smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+                 int steps);
 
 // The robust deviation (median distance / 0.6745) by which smooth_mls(points, radius) would move
 // the points, measured at about `samples` of them spread evenly through the array: the surface

@@ -16,8 +16,8 @@ namespace vmas {
 //   unknown elements and properties skipped), .obj (v/vn/f), .xyz/.txt (3 or 6 columns),
 //   .pcd (ascii, binary, binary_compressed). Polygons are fan-triangulated.
 // Normals: when some points carry one and others do not (NOFF or .xyz lines without normals),
-// the missing ones are NaN, so cleaning drops those points; a NOFF file giving no normal at all
-// loads as a plain cloud. OBJ `vn` lines are used only for clouds with one `vn` per `v`.
+// the missing ones are NaN (cleaning keeps those points, preparation estimates their normals);
+// a NOFF file giving no normal at all loads as a plain cloud. OBJ `vn` lines are used only for clouds with one `vn` per `v`.
 // Then cleans it (see clean_surface) and fills `report` if given. Throws IoError when the file is
 // missing, unreadable, of unknown format, truncated or malformed, holds a coordinate that
 // clean_surface rejects, or holds no usable point. Memory stays proportional to the file's size

@@ -24,6 +24,13 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
 // InvalidOption for a bad k and InvalidInput when the two sizes differ.
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
 
+// Gives every point whose normal is missing (NaN or zero: a file that has normals for some
+// points only) the normal of the plane through its k nearest neighbours, with the sign its
+// neighbours' given normals agree on; given normals are left as they are. Throws InvalidInput
+// for fewer than k + 1 points when a normal is missing.
+void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
+                          const NormalOptions& options);
+
 // How much unit normals point away from the points' centroid: Σ (p − c)·n / Σ |p − c| over the
 // points listed in `subset` (all when empty), in [−1, 1]. Near 1 for a roundish closed surface
 // with outward normals, near −1 with inward ones, near 0 for flat data or normals of random sign.

@@ -47,19 +47,19 @@ struct PrepareReport {
   std::size_t outliers = 0;     // points dropped as outliers
   NoiseEstimate noise;          // as measured (or given), before smoothing
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
-  double mls_radius = 0.0;      // support of the smoothing (0: not smoothed)
+  double mls_radius = 0.0;      // clouds: support of the MLS smoothing (0: not smoothed)
+  int mesh_smoothing_steps = 0;  // meshes: Taubin steps along the faces (0: not smoothed)
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
-  bool faces_dropped = false;  // a noisy mesh whose smoothed vertices went on as a cloud
   double seconds = 0.0;
+  bool smoothed() const { return mls_radius > 0.0 || mesh_smoothing_steps > 0; }
 };
 
 // Prepares `surface` in place (see above). Data far from the origin compared with its size
 // (georeferenced scans) or of extreme size is first moved to its bounding-box centre and scaled
 // by a power of two (report.frame; map results back with Frame::to_input), so that no stage
-// loses precision to the offset. A clean mesh is left as it is; a noisy one has its
-// vertices smoothed and becomes a cloud with the smoothed surface's normals (faces between
-// independently moved vertices fold). Throws InvalidInput when too few points remain.
+// loses precision to the offset. A clean mesh is left as it is; a noisy one has its vertices
+// smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
 
 // Shrinking-ball settings suited to what preparation left, for smoothed (noisy) data: samples

@@ -78,6 +78,7 @@ struct RunSummary {
   bool converged = false;           // the total error settled (see convergence)
   bool hit_max_iterations = false;  // max_iterations ended the run
   bool cancelled = false;           // the progress callback returned false
+  bool error_threshold_missed = false;  // an error threshold stopped at the sphere cap unmet
 };
 
 // Everything a run's result depends on: restore() brings a skeletonizer back to it exactly.
@@ -143,6 +144,7 @@ class Skeletonizer {
   // vertex's own sphere is passed over.
   bool reseed_tiny_clusters(bool serving_balls_only = false);
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
+  bool misses_error_threshold() const;  // some free cluster's E(C) is above the threshold
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere

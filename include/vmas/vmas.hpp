@@ -48,7 +48,8 @@ struct Options {
 // Something about the input or the result the caller should know; the result is still usable.
 struct Warning {
   // A stable identifier, for programs: "open-surface", "open-mesh", "misoriented-faces",
-  // "inward-normals", "split-skeleton".
+  // "inward-normals", "split-skeleton", "large-error" (measured ε above 5 % of the diagonal),
+  // "target-not-reached" (an error threshold stopped at the sphere cap).
   std::string code;
   std::string message;  // one line, for people
 };
@@ -67,9 +68,12 @@ struct Result {
   CleanReport clean;         // what cleaning removed (clean.kept: input index of each point kept)
   PrepareReport prepare;     // outliers, noise, smoothing, normals, the working frame
   MeshDefects mesh_defects;  // meshes: boundary, non-manifold and misoriented edges
-  double enclosure = 0.0;    // median winding number inside (1: a closed surface)
+  double enclosure = 0.0;    // median winding number inside (1: a closed surface; exactly 1
+                             // for a mesh without boundary, non-manifold or misoriented edges)
   int input_components = 0;  // of the shape's neighbour graph (mesh edges or k-NN graph)
   int skeleton_components = 0;  // of the medial mesh
+  double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
+                                // data (the refinement's measure), fraction of its diagonal
   Timings seconds;
   std::vector<Warning> warnings;
 };
