@@ -381,6 +381,33 @@ TEST_F(IoXyz, ColumnsSeparatorsAndErrors) {
   expect_io_error([&] { read_surface(comments); }, comments, "no points");
 }
 
+// Variants seen in the wild: a leading count line, colour columns, decimal commas. None of them
+// may be read as normals or as extra points.
+TEST_F(IoXyz, CountLineColoursAndDecimalCommas) {
+  const SurfaceInput counted = read_surface(write("n.xyz", "3\n0 0 0\n1 0 0\n0 1 0\n"));
+  ASSERT_EQ(counted.points.size(), 3u);
+  EXPECT_EQ(counted.points[0], Vec3(0, 0, 0));
+  const std::string wrong = write("m.xyz", "4\n0 0 0\n1 0 0\n0 1 0\n");
+  expect_io_error([&] { read_surface(wrong); }, wrong, "line 1 announces 4 points but 3 follow");
+
+  const SurfaceInput coloured =
+      read_surface(write("rgb.xyz", "0 0 0 255 0 0\n1 0 0 0 128 7\n0 1 0 1 1 1\n"));
+  ASSERT_EQ(coloured.points.size(), 3u);
+  EXPECT_FALSE(coloured.has_normals());
+  const SurfaceInput with_normals =
+      read_surface(write("nrm.xyz", "0 0 0 0 0 1\n1 0 0 1 0 0\n0 1 0 0 1 0\n"));
+  EXPECT_TRUE(with_normals.has_normals());
+
+  const SurfaceInput commas =
+      read_surface(write("dc.xyz", "0,0094 -0,0241 0,9997\n1,5 0 0\n-2,25 1 0\n"));
+  ASSERT_EQ(commas.points.size(), 3u);
+  EXPECT_EQ(commas.points[0], Vec3(0.0094, -0.0241, 0.9997));
+  EXPECT_EQ(commas.points[2], Vec3(-2.25, 1, 0));
+  const SurfaceInput csv = read_surface(write("csv.xyz", "0.5,0.25,1\n1,2,3\n"));
+  ASSERT_EQ(csv.points.size(), 2u);
+  EXPECT_EQ(csv.points[1], Vec3(1, 2, 3));
+}
+
 // ---------------------------------------------------------------------------------------------
 // PCD
 
