@@ -2,6 +2,7 @@
 // the mapping of errors to messages and exit codes, and the restart with process settings.
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/program_options/errors.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -31,7 +32,8 @@ boost::program_options::variables_map parse_arguments(
 void set_threads(int threads) {
   if (threads < 0) throw InvalidOption("--threads must be 0 or more");
 #ifdef _OPENMP
-  if (threads > 0) omp_set_num_threads(threads);
+  // More threads than cores only wait for each other (1000 threads ran 13 times slower).
+  if (threads > 0) omp_set_num_threads(std::min(threads, omp_get_num_procs()));
 #endif
 }
 

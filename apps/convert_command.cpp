@@ -47,14 +47,14 @@ int convert_command(int argc, const char* const* argv) {
 
   std::string summary;
   if (vm.count("medial")) {
-    check_medial_mesh_output(output);
+    check_output_option(output, check_medial_mesh_output);
     const MedialMesh medial = read_medial_mesh(input);
     write_medial_mesh(output, medial);
     summary = std::to_string(medial.spheres.size()) + " spheres, " +
               std::to_string(medial.edges.size()) + " edges, " +
               std::to_string(medial.faces.size()) + " faces";
   } else {
-    check_output(output);
+    check_output_option(output, check_surface_output);
     CleanReport report;
     const SurfaceInput shape = read_surface(input, &report);
     write_surface(output, shape);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -61,6 +62,9 @@ std::string text_of(double value, const char* format = "%.3g") {
 struct Job {
   std::string input, output, labels;
 };
+
+// Where progress goes: nowhere (--quiet, batches), a terminal line, or log lines.
+enum class ProgressStyle { None, Terminal, Log };
 
 struct Settings {
   Options options;
@@ -222,29 +226,49 @@ void print_summary(const json& s, const Settings& settings) {
   std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";
 }
 
-// Progress on a terminal: one line rewritten in place.
-ProgressCallback terminal_progress(const std::string& input, bool show) {
-  if (!show) return {};
-  return [input](const Progress& p) {
-    switch (p.phase) {
-      case Progress::Phase::Preparing:
-        std::fprintf(stderr, "\r%s: preparing%20s", input.c_str(), "");
-        break;
-      case Progress::Phase::Optimising:
-        if (p.target_spheres > 0)
-          std::fprintf(stderr, "\r%s: spheres %d/%d, iteration %d, error %.3e   ", input.c_str(),
-                       p.spheres, p.target_spheres, p.iteration, p.error);
-        else
-          std::fprintf(stderr, "\r%s: spheres %d, iteration %d, error %.3e   ", input.c_str(),
-                       p.spheres, p.iteration, p.error);
-        break;
-      case Progress::Phase::FinalRefit:
-        std::fprintf(stderr, "\r%s: final refit %d/%d%30s", input.c_str(), p.round, p.rounds, "");
-        break;
-      case Progress::Phase::Refining:
-        std::fprintf(stderr, "\r%s: refining, move %d/%d, epsilon %.3f %%%20s", input.c_str(),
-                     p.round, p.rounds, 100.0 * p.error, "");
-        break;
+// What a progress report says, for one line.
+std::string describe(const Progress& p) {
+  char line[160];
+  switch (p.phase) {
+    case Progress::Phase::Preparing:
+      std::snprintf(line, sizeof line, "preparing");
+      break;
+    case Progress::Phase::Optimising:
+      if (p.target_spheres > 0)
+        std::snprintf(line, sizeof line, "spheres %d/%d, iteration %d, error %.3e", p.spheres,
+                      p.target_spheres, p.iteration, p.error);
+      else
+        std::snprintf(line, sizeof line, "spheres %d, iteration %d, error %.3e", p.spheres,
+                      p.iteration, p.error);
+      break;
+    case Progress::Phase::FinalRefit:
+      std::snprintf(line, sizeof line, "final refit %d/%d", p.round, p.rounds);
+      break;
+    case Progress::Phase::Refining:
+      std::snprintf(line, sizeof line, "refining, move %d/%d, epsilon %.3f %%", p.round, p.rounds,
+                    100.0 * p.error);
+      break;
+  }
+  return line;
+}
+
+// Seconds between progress lines when stderr is not a terminal (a log file, a cluster job).
+constexpr double kLogInterval = 5.0;
+
+// Progress on stderr: on a terminal one line rewritten in place; elsewhere a line every
+// kLogInterval seconds, so that logs show a long run moving.
+ProgressCallback stderr_progress(const std::string& input, ProgressStyle style) {
+  if (style == ProgressStyle::None) return {};
+  if (style == ProgressStyle::Terminal)
+    return [input](const Progress& p) {
+      std::fprintf(stderr, "\r%s: %-70s", input.c_str(), describe(p).c_str());
+      return true;
+    };
+  auto last = std::make_shared<Clock::time_point>(Clock::now());
+  return [input, last](const Progress& p) {
+    if (seconds_since(*last) >= kLogInterval) {
+      *last = Clock::now();
+      std::fprintf(stderr, "%s: %s\n", input.c_str(), describe(p).c_str());
     }
     return true;
   };
@@ -252,7 +276,8 @@ ProgressCallback terminal_progress(const std::string& input, bool show) {
 
 // Reads, skeletonizes and writes one input; returns its summary. Errors about the data name
 // the file.
-json run_one(const Job& job, const Settings& settings, bool show_progress) {
+json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
+  const bool show_progress = progress == ProgressStyle::Terminal;
   const auto start = Clock::now();
   SurfaceInput surface = read_surface_as_stored(job.input);
   const double read_seconds = seconds_since(start);
@@ -266,7 +291,7 @@ json run_one(const Job& job, const Settings& settings, bool show_progress) {
   Result result;
   try {
     result = skeletonize(std::move(surface), settings.options,
-                         terminal_progress(job.input, show_progress));
+                         stderr_progress(job.input, progress));
   } catch (const InvalidInput& e) {
     if (show_progress) std::fprintf(stderr, "\n");
     throw InvalidInput(job.input + ": " + e.what());
@@ -301,8 +326,11 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
                             const std::string& format) {
   if (format != "ply" && format != "ma")
     throw InvalidOption("--format must be ply or ma (got '" + format + "')");
-  if (!fs::is_directory(directory))
-    throw InvalidOption("--output-dir " + directory + ": no such folder");
+  // Created when missing, as the batch scripts do.
+  std::error_code error;
+  if (!fs::is_directory(directory) && !fs::create_directories(directory, error))
+    throw InvalidOption("--output-dir " + directory + ": cannot create the folder (" +
+                        error.message() + ")");
   std::vector<Job> jobs;
   std::map<std::string, std::string> taken;
   for (const std::string& input : inputs) {
@@ -330,7 +358,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   visible.add_options()
       ("help,h", "print this help")
       ("output,o", po::value(&output), "medial mesh to write (.ply or .ma), for one INPUT")
-      ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (must exist)")
+      ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (created if missing)")
       ("format", po::value(&format)->default_value("ply"), "with --output-dir: ply or ma")
       ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
       ("labels", po::value(&labels_path),
@@ -375,8 +403,19 @@ int skeletonize_command(int argc, const char* const* argv) {
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
     check_distinct_files_option({inputs[0], inputs_list}, {output, labels_path});
     const Job job{inputs[0], output, labels_path};
-    const bool show_progress = !settings.quiet && isatty(fileno(stderr));
-    const json summary = run_one(job, settings, show_progress);
+    const ProgressStyle progress = settings.quiet                ? ProgressStyle::None
+                                   : isatty(fileno(stderr)) ? ProgressStyle::Terminal
+                                                            : ProgressStyle::Log;
+    json summary;
+    try {
+      summary = run_one(job, settings, progress);
+    } catch (const std::exception& e) {
+      // --json promises one JSON object, also on failure; the message goes to stderr as well.
+      if (settings.json)
+        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}.dump()
+                  << "\n";
+      throw;
+    }
     if (settings.json)
       std::cout << summary.dump() << "\n";
     else if (!settings.quiet)
@@ -393,7 +432,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   int failed = 0;
   for (const Job& job : jobs) {
     try {
-      const json s = run_one(job, settings, false);
+      const json s = run_one(job, settings, ProgressStyle::None);
       if (settings.json)
         std::cout << s.dump() << std::endl;
       else if (!settings.quiet)

@@ -228,6 +228,13 @@ void check_medial_mesh_output(const std::string& path) {
     fail(path, "cannot write a medial mesh as " + quote(extension) + " (expected .ply or .ma)");
 }
 
+void check_surface_output(const std::string& path) {
+  check_output(path);
+  const std::string extension = io_internal::lower_extension(path);
+  if (extension != ".ply" && extension != ".off" && extension != ".xyz")
+    fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
+}
+
 void check_distinct_files(const std::vector<std::string>& inputs,
                           const std::vector<std::string>& outputs) {
   std::vector<FileIdentity> read;

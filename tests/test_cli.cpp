@@ -173,7 +173,10 @@ TEST_F(Cli, BatchUsageErrors) {
                        dir_.string());
   EXPECT_EQ(r.exit_code, 2);
   expect_one_line_error(r, "would both be written");
-  EXPECT_EQ(run("skeletonize " + path("a.off") + " --output-dir " + path("missing")).exit_code, 2);
+  // A missing output folder is created, as the batch scripts do.
+  EXPECT_EQ(run("skeletonize " + path("a.off") + " -n 2 --output-dir " + path("new/sub")).exit_code,
+            0);
+  EXPECT_TRUE(fs::exists(path("new/sub/a.ply")));
 }
 
 // Every command refuses, before any work, an output that is one of its inputs (however
@@ -203,6 +206,16 @@ TEST_F(Cli, NoCommandWritesOverItsInput) {
   EXPECT_EQ(read_text(path("a.ply")), a);
   EXPECT_EQ(read_text(path("b.ply")), b);
   EXPECT_FALSE(fs::exists(path("s.ply")) || fs::exists(path("y.ply")) || fs::exists(path("e.txt")));
+}
+
+// --json promises one JSON object on stdout, also when the single input fails.
+TEST_F(Cli, JsonFailureIsJsonToo) {
+  const Result r = run("skeletonize " + path("missing.off") + " --json -n 2 -o " + path("o.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  const auto summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["input"], path("missing.off"));
+  EXPECT_NE(summary["error"].get<std::string>().find("no such file"), std::string::npos);
+  expect_one_line_error(r, "missing.off");
 }
 
 // --labels on a device or FIFO is refused before the run; neither is replaced.

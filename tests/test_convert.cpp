@@ -70,9 +70,10 @@ TEST_F(Convert, ErrorsAreOneLineWithTheirExitCode) {
   EXPECT_FALSE(fs::exists(path("out.off")));
 
   std::ofstream(path("cloud.xyz")) << "0 0 0\n1 0 0\n0 1 0\n";
-  EXPECT_EQ(convert(path("cloud.xyz") + " " + path("out.stl")), 1);  // no such writer
+  // An output format with no writer is a usage error, as in skeletonize (before any reading).
+  EXPECT_EQ(convert(path("cloud.xyz") + " " + path("out.stl")), 2);
   expect_one_line_error(".stl");
-  EXPECT_EQ(convert(path("cloud.xyz") + " " + path("cloud.abc") + " --medial"), 1);
+  EXPECT_EQ(convert(path("cloud.xyz") + " " + path("cloud.abc") + " --medial"), 2);
   expect_one_line_error(".abc");
   EXPECT_EQ(convert(path("cloud.abc") + " " + path("out.off")), 1);  // no such reader
   expect_one_line_error(path("cloud.abc"));

@@ -191,17 +191,25 @@ TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
 
 TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {
   const SurfaceInput cloud = capsule_cloud();
-  const int before = omp_get_max_threads();
+  const int previous = omp_get_max_threads();
+  omp_set_num_threads(1);
   Options options;
   options.spheres = 3;
-  options.threads = before + 1;
   int seen = 0;
-  skeletonize(cloud, options, [&](const Progress&) {
+  const auto watch = [&](const Progress&) {
     seen = omp_get_max_threads();
     return true;
-  });
-  EXPECT_EQ(seen, before + 1);
-  EXPECT_EQ(omp_get_max_threads(), before);
+  };
+  options.threads = omp_get_num_procs();
+  skeletonize(cloud, options, watch);
+  EXPECT_EQ(seen, omp_get_num_procs());
+  EXPECT_EQ(omp_get_max_threads(), 1);
+  // More threads than cores are capped at the cores.
+  options.threads = 1000;
+  skeletonize(cloud, options, watch);
+  EXPECT_EQ(seen, omp_get_num_procs());
+  EXPECT_EQ(omp_get_max_threads(), 1);
+  omp_set_num_threads(previous);
 }
 
 TEST(OneCall, OptionErrorsNameTheOption) {

@@ -65,6 +65,7 @@ void write_file_atomically(const std::string& path, const std::string& contents)
 // the extension is not .ply or .ma.
 void check_output(const std::string& path);
 void check_medial_mesh_output(const std::string& path);
+void check_surface_output(const std::string& path);  // also: not .ply, .off or .xyz
 
 // Throws IoError naming the output when an output is the same file as an input (by identity:
 // hard links and other spellings included) or as another output. Call it before any work.
