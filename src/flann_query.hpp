@@ -16,7 +16,7 @@
 
 // Hidden: internal to the library, never exported (src/exports.map exports the vmas API).
 namespace vmas {
-namespace __attribute__((visibility("hidden"))) flann_query {
+namespace flann_query __attribute__((visibility("hidden"))) {
 
 // The `k` nearest points (k at most the index's size): their ids in found[0, n) and squared
 // distances in squared[0, n), nearest first; returns n.

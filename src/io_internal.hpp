@@ -22,7 +22,7 @@
 
 // Hidden: internal to the library, never exported (src/exports.map exports the vmas API).
 namespace vmas {
-namespace __attribute__((visibility("hidden"))) io_internal {
+namespace io_internal __attribute__((visibility("hidden"))) {
 
 [[noreturn]] inline void fail(const std::string& path, const std::string& problem) {
   throw IoError(path + ": " + problem);
