@@ -6,6 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "vmas/normals.hpp"
 #include "vmas/io.hpp"
 
 namespace po = boost::program_options;
@@ -56,7 +57,9 @@ int convert_command(int argc, const char* const* argv) {
   } else {
     check_output_option(output, check_surface_output);
     CleanReport report;
-    const SurfaceInput shape = read_surface(input, &report);
+    SurfaceInput shape = read_surface(input, &report);
+    // Points the file gave no valid normal keep their place: written with an estimated one.
+    if (report.missing_normals > 0) fill_missing_normals(shape.points, shape.normals, {});
     write_surface(output, shape);
     summary = std::to_string(shape.points.size()) + " points" +
               (shape.is_mesh() ? ", " + std::to_string(shape.faces.size()) + " faces" : "") +

@@ -412,12 +412,13 @@ int skeletonize_command(int argc, const char* const* argv) {
     } catch (const std::exception& e) {
       // --json promises one JSON object, also on failure; the message goes to stderr as well.
       if (settings.json)
-        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}.dump()
+        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
+                         .dump(-1, ' ', false, json::error_handler_t::replace)
                   << "\n";
       throw;
     }
     if (settings.json)
-      std::cout << summary.dump() << "\n";
+      std::cout << summary.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
     else if (!settings.quiet)
       print_summary(summary, settings);
     return 0;
@@ -434,7 +435,7 @@ int skeletonize_command(int argc, const char* const* argv) {
     try {
       const json s = run_one(job, settings, ProgressStyle::None);
       if (settings.json)
-        std::cout << s.dump() << std::endl;
+        std::cout << s.dump(-1, ' ', false, json::error_handler_t::replace) << std::endl;
       else if (!settings.quiet)
         std::cout << job.input << " -> " << job.output << ": " << s["spheres"] << " spheres, "
                   << s["edges"] << " edges, " << s["medial_faces"] << " faces, "
@@ -450,7 +451,8 @@ int skeletonize_command(int argc, const char* const* argv) {
       ++failed;
       const std::string message = e.what();
       if (settings.json)
-        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", message}}.dump()
+        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", message}}
+                         .dump(-1, ' ', false, json::error_handler_t::replace)
                   << std::endl;
       else
         std::cout << job.input << ": failed: " << message << std::endl;

@@ -3,7 +3,6 @@
 // one transaction (temporaries beside their targets, then renames; on any failure, a signal
 // included, no temporary is left and every earlier file is intact).
 #include <fcntl.h>
-#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -87,17 +86,19 @@ int create_temporary(const std::string& path, std::string& temporary) {
 }
 
 // What a signal handler may touch while files are written: the temporaries to remove, and
-// whether the renames are under way (then the signal waits until they are done or undone).
+// whether a step that must not be cut short is under way (a temporary being created and
+// registered, the renames): the signal then waits until it is done.
 constexpr int kMaxFiles = 16;
 char g_temporaries[kMaxFiles][PATH_MAX];
 volatile sig_atomic_t g_temporary_count = 0;
-volatile sig_atomic_t g_renaming = 0;
+volatile sig_atomic_t g_deferring = 0;
 volatile sig_atomic_t g_pending_signal = 0;
 constexpr int kCaughtSignals[] = {SIGINT, SIGTERM, SIGHUP};
 struct sigaction g_previous[NSIG];
+bool g_caught[NSIG];
 
 extern "C" void on_signal_while_writing(int signal) {
-  if (g_renaming) {
+  if (g_deferring) {
     g_pending_signal = signal;
     return;
   }
@@ -108,7 +109,8 @@ extern "C" void on_signal_while_writing(int signal) {
   ::raise(signal);
 }
 
-// While alive: SIGINT, SIGTERM and SIGHUP remove the temporaries before they take effect, and
+// While alive: SIGINT, SIGTERM and SIGHUP remove the temporaries before they take effect
+// (signals the process ignores, as under nohup or in a background job, stay ignored), and
 // SIGXFSZ (a file size limit) is ignored, so that the write fails with "File too large"
 // instead of killing the process without a word.
 class SignalGuard {
@@ -117,21 +119,21 @@ class SignalGuard {
     struct sigaction action {};
     action.sa_handler = on_signal_while_writing;
     sigemptyset(&action.sa_mask);
-    for (int signal : kCaughtSignals) ::sigaction(signal, &action, &g_previous[signal]);
+    for (int signal : kCaughtSignals) {
+      ::sigaction(signal, nullptr, &g_previous[signal]);
+      g_caught[signal] = g_previous[signal].sa_handler != SIG_IGN;
+      if (g_caught[signal]) ::sigaction(signal, &action, nullptr);
+    }
     struct sigaction ignore {};
     ignore.sa_handler = SIG_IGN;
     sigemptyset(&ignore.sa_mask);
     ::sigaction(SIGXFSZ, &ignore, &previous_file_size_);
   }
   ~SignalGuard() {
-    for (int signal : kCaughtSignals) ::sigaction(signal, &g_previous[signal], nullptr);
+    for (int signal : kCaughtSignals)
+      if (g_caught[signal]) ::sigaction(signal, &g_previous[signal], nullptr);
     ::sigaction(SIGXFSZ, &previous_file_size_, nullptr);
     g_temporary_count = 0;
-    if (g_pending_signal != 0) {
-      const int signal = g_pending_signal;
-      g_pending_signal = 0;
-      ::raise(signal);
-    }
   }
   SignalGuard(const SignalGuard&) = delete;
   SignalGuard& operator=(const SignalGuard&) = delete;
@@ -146,16 +148,27 @@ class SignalGuard {
   struct sigaction previous_file_size_ {};
 };
 
+// Holds signals back (on any thread) for its lifetime, then lets a held one take its course.
+struct Deferred {
+  Deferred() { g_deferring = 1; }
+  ~Deferred() {
+    g_deferring = 0;
+    if (g_pending_signal != 0) {
+      const int signal = g_pending_signal;
+      g_pending_signal = 0;
+      on_signal_while_writing(signal);
+    }
+  }
+  Deferred(const Deferred&) = delete;
+  Deferred& operator=(const Deferred&) = delete;
+};
+
 // create_temporary, the new file registered with the guard before a signal can strike.
 int create_registered_temporary(const std::string& target, std::string& temporary) {
-  sigset_t caught, previous;
-  sigemptyset(&caught);
-  for (int signal : kCaughtSignals) sigaddset(&caught, signal);
-  ::pthread_sigmask(SIG_BLOCK, &caught, &previous);
+  const Deferred deferred;
   const int descriptor = create_temporary(target, temporary);
   const int error = errno;
   if (descriptor >= 0) SignalGuard::add_temporary(temporary);
-  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   errno = error;
   return descriptor;
 }
@@ -260,7 +273,7 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
   for (const OutputFile& file : files) targets.push_back(checked_target(file.path));
   const std::lock_guard<std::mutex> lock(g_writing);
   std::vector<std::string> temporaries(files.size()), backups(files.size());
-  std::string problem;
+  std::string problem, not_restored;
   std::size_t failed = 0;  // the file `problem` is about
   {
     const SignalGuard guard;
@@ -269,13 +282,17 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
     if (!problem.empty()) --failed;
 
     // The renames, with signals held back: every file lands, or the earlier ones come back
-    // from hard links taken before (an error here is rare: the folder changed under us).
+    // from hard links taken before (an error here is rare: the folder changed under us). A
+    // file that existed and could not be linked (no hard links on that file system) stays
+    // as the new one if a later rename fails: the message says so.
     std::size_t renamed = 0;
     if (problem.empty()) {
-      g_renaming = 1;
+      const Deferred deferred;
+      std::vector<bool> existed(files.size(), false);
       for (std::size_t i = 0; i < files.size(); ++i) {
+        existed[i] = ::access(targets[i].c_str(), F_OK) == 0;
         backups[i] = temporaries[i] + ".old";
-        if (::link(targets[i].c_str(), backups[i].c_str()) != 0) backups[i].clear();
+        if (!existed[i] || ::link(targets[i].c_str(), backups[i].c_str()) != 0) backups[i].clear();
       }
       for (; renamed < files.size(); ++renamed)
         if (std::rename(temporaries[renamed].c_str(), targets[renamed].c_str()) != 0) {
@@ -285,19 +302,25 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
         }
       if (!problem.empty())
         for (std::size_t i = 0; i < renamed; ++i) {
-          if (backups[i].empty())
+          if (!backups[i].empty()) {
+            if (std::rename(backups[i].c_str(), targets[i].c_str()) == 0)
+              backups[i].clear();
+            else
+              not_restored += "; the earlier " + targets[i] + " is kept as " + backups[i];
+          } else if (!existed[i]) {
             ::unlink(targets[i].c_str());
-          else if (std::rename(backups[i].c_str(), targets[i].c_str()) == 0)
-            backups[i].clear();
+          } else {
+            not_restored += "; " + targets[i] + " was replaced";
+          }
         }
-      for (const std::string& backup : backups)
-        if (!backup.empty()) ::unlink(backup.c_str());
-      g_renaming = 0;
+      for (std::size_t i = 0; i < files.size(); ++i)
+        if (!backups[i].empty() && (problem.empty() || i >= renamed)) ::unlink(backups[i].c_str());
     }
     for (std::size_t i = renamed; i < files.size(); ++i)
       if (!temporaries[i].empty()) ::unlink(temporaries[i].c_str());
   }
-  if (!problem.empty()) fail(files[failed].path, "cannot write (" + problem + ")");
+  if (!problem.empty())
+    fail(files[failed].path, "cannot write (" + problem + ")" + not_restored);
 }
 
 void write_file_atomically(const std::string& path, const std::string& contents) {

@@ -17,14 +17,27 @@ namespace {
 bool has_decimal_comma(std::string_view token) {
   if (!token.empty() && (token[0] == '-' || token[0] == '+')) token.remove_prefix(1);
   const std::size_t comma = token.find(',');
-  if (comma == std::string_view::npos || comma == 0 || comma + 1 == token.size()) return false;
+  if (comma == std::string_view::npos || comma == 0 || comma + 1 == token.size() ||
+      token.find(',', comma + 1) != std::string_view::npos)
+    return false;
   return std::all_of(token.begin(), token.end(),
                      [](char c) { return c == ',' || std::isdigit(static_cast<unsigned char>(c)); });
 }
 
-// A file whose first data line has whitespace-separated numbers with decimal commas and no
-// decimal point ("0,0094 -0,0241 0,9997"); commas are otherwise separators.
+// A whole number ("0", "-12"): may stand beside decimal-comma numbers.
+bool is_whole_number(std::string_view token) {
+  if (!token.empty() && (token[0] == '-' || token[0] == '+')) token.remove_prefix(1);
+  return !token.empty() && std::all_of(token.begin(), token.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
+}
+
+// A file whose data lines are whitespace-separated numbers, whole or with one decimal comma,
+// some with a comma, and no decimal point anywhere ("0,0094 -0,0241 0,9997"); commas are
+// otherwise separators.
 bool uses_decimal_commas(std::string_view text) {
+  if (text.find('.') != std::string_view::npos) return false;
+  bool comma_seen = false;
   std::size_t position = 0;
   while (position < text.size()) {
     std::size_t end = text.find('\n', position);
@@ -40,19 +53,22 @@ bool uses_decimal_commas(std::string_view text) {
       if (stop > start) words.push_back(line.substr(start, stop - start));
       start = stop;
     }
-    if (words.empty()) continue;
-    if (words.size() == 1) continue;  // a count line
-    return line.find('.') == std::string_view::npos &&
-           std::all_of(words.begin(), words.end(), has_decimal_comma);
+    if (words.size() <= 1) continue;  // blank, or a count line
+    for (std::string_view word : words) {
+      if (has_decimal_comma(word))
+        comma_seen = true;
+      else if (!is_whole_number(word))
+        return false;
+    }
   }
-  return false;
+  return comma_seen;
 }
 
 // Columns 4-6 that are colours, not normals: whole numbers from 0 to 255, some above 1.
 bool are_colours(const std::vector<Vec3>& extra) {
   double largest = 0.0;
   for (const Vec3& e : extra)
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3 && !std::isnan(e.x()); ++c) {  // NaN: a line of 3 columns
       if (!(e[c] >= 0.0 && e[c] <= 255.0) || e[c] != std::floor(e[c])) return false;
       largest = std::max(largest, e[c]);
     }

@@ -170,6 +170,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
       surface.normals = estimate_normals(surface.points, options.normals);
       report.normals_estimated = true;
     } else if (options.orient_normals) {
+      fill_missing_normals(surface.points, surface.normals, options.normals);
       orient_normals(surface.points, surface.normals, options.normals.k);
       report.normals_oriented = true;
     } else {

@@ -94,6 +94,10 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   if (n <= options.k)
     throw InvalidInput("too few points (" + std::to_string(n) +
                        ") for k=" + std::to_string(options.k));
+  for (std::size_t v = 0; v < input.normals.size(); ++v)
+    if (!input.normals[v].allFinite() || !(input.normals[v].squaredNorm() > 0.0))
+      throw InvalidInput("point " + std::to_string(v) +
+                         " has no valid normal (fill_missing_normals first)");
   shape.normals = input.normals;
   const KdTree tree(shape.points);
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.

@@ -284,8 +284,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
         summary.iterations == options_.max_iterations && !summary.converged;
     summary.spheres = static_cast<int>(spheres_.size());
     summary.error = total_error_;
-    summary.error_threshold_missed = options_.target_spheres == 0 &&
-                                     summary.spheres >= sphere_cap() && misses_error_threshold();
+    summary.error_threshold_missed = options_.target_spheres == 0 && misses_error_threshold();
     return summary;
   };
   const int coarse_iterations = start_coarse(progress, summary.cancelled);

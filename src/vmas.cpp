@@ -107,14 +107,19 @@ std::vector<Warning> warnings_about(const Result& result) {
     warnings.push_back(
         {"large-error", std::string("the skeleton is ") + figure +
                             " % of the diagonal away from the data at its worst (two-sided "
-                            "Hausdorff distance, as vmas eval measures it): more spheres "
-                            "(--spheres) or a smaller --lambda fit the shape closer"});
+                            "Hausdorff distance to the data as prepared, smoothed when noisy): "
+                            "more spheres (--spheres) or a smaller --lambda fit the shape "
+                            "closer"});
   }
   if (result.summary.error_threshold_missed)
     warnings.push_back(
-        {"target-not-reached", "the error threshold was not reached: the run stopped at " +
-                                   std::to_string(result.summary.spheres) +
-                                   " spheres (--max-spheres, and never more than points)"});
+        {"target-not-reached",
+         "the error threshold was not reached: the run stopped at " +
+             std::to_string(result.summary.spheres) + " spheres (" +
+             (result.summary.hit_max_iterations ? std::string("--max-iterations")
+                                                : std::string("--max-spheres, the number of "
+                                                              "points, or no cluster could split")) +
+             ")"});
   return warnings;
 }
 

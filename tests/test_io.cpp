@@ -403,6 +403,13 @@ TEST_F(IoXyz, CountLineColoursAndDecimalCommas) {
   ASSERT_EQ(commas.points.size(), 3u);
   EXPECT_EQ(commas.points[0], Vec3(0.0094, -0.0241, 0.9997));
   EXPECT_EQ(commas.points[2], Vec3(-2.25, 1, 0));
+  const SurfaceInput mixed = read_surface(write("mx.xyz", "0 0 0\n1,5 2,5 3,5\n0,5 0 1\n"));
+  ASSERT_EQ(mixed.points.size(), 3u);
+  EXPECT_EQ(mixed.points[1], Vec3(1.5, 2.5, 3.5));
+  EXPECT_FALSE(mixed.has_normals());
+  const SurfaceInput some_colours =
+      read_surface(write("sc.xyz", "0 0 0\n1 0 0 255 0 0\n0 1 0 0 0 255\n"));
+  EXPECT_FALSE(some_colours.has_normals());
   const SurfaceInput csv = read_surface(write("csv.xyz", "0.5,0.25,1\n1,2,3\n"));
   ASSERT_EQ(csv.points.size(), 2u);
   EXPECT_EQ(csv.points[1], Vec3(1, 2, 3));

@@ -164,5 +164,32 @@ TEST_F(IoOutput, ATerminatedWriteLeavesNoTemporary) {
   EXPECT_EQ(leftovers(), 0);
 }
 
+// A signal the process ignores (nohup, a shell's background job) stays ignored: the write
+// goes on and lands.
+TEST_F(IoOutput, AnIgnoredSignalDoesNotStopTheWrite) {
+  write("big.ply", "old");
+  const std::size_t size = std::size_t{256} << 20;
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::signal(SIGTERM, SIG_IGN);
+    try {
+      write_file_atomically(path("big.ply"), std::string(size, 'z'));
+    } catch (...) {
+      ::_exit(3);
+    }
+    ::_exit(0);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  while (leftovers() == 0 && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  ::kill(child, SIGTERM);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(fs::file_size(path("big.ply")), size);
+  EXPECT_EQ(leftovers(), 0);
+}
+
 }  // namespace
 }  // namespace vmas

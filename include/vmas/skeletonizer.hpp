@@ -78,7 +78,8 @@ struct RunSummary {
   bool converged = false;           // the total error settled (see convergence)
   bool hit_max_iterations = false;  // max_iterations ended the run
   bool cancelled = false;           // the progress callback returned false
-  bool error_threshold_missed = false;  // an error threshold stopped at the sphere cap unmet
+  bool error_threshold_missed = false;  // an error threshold was still unmet when the run ended
+                                        // (sphere cap, max_iterations, no cluster could split)
 };
 
 // Everything a run's result depends on: restore() brings a skeletonizer back to it exactly.
