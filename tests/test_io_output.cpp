@@ -52,6 +52,13 @@ class IoOutput : public ::testing::Test {
     return count;
   }
 
+  // Until a writer's temporary shows up in the folder (at most 30 s).
+  void wait_for_temporary() const {
+    const auto start = std::chrono::steady_clock::now();
+    while (leftovers() == 0 && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+
   fs::path dir_;
 };
 
@@ -151,10 +158,7 @@ TEST_F(IoOutput, ATerminatedWriteLeavesNoTemporary) {
     write_file_atomically(path("big.ply"), contents);
     ::_exit(0);
   }
-  // Wait for the temporary to appear, then terminate the writer.
-  const auto start = std::chrono::steady_clock::now();
-  while (leftovers() == 0 && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  wait_for_temporary();  // then terminate the writer
   ::kill(child, SIGTERM);
   int status = 0;
   ::waitpid(child, &status, 0);
@@ -179,9 +183,7 @@ TEST_F(IoOutput, AnIgnoredSignalDoesNotStopTheWrite) {
     }
     ::_exit(0);
   }
-  const auto start = std::chrono::steady_clock::now();
-  while (leftovers() == 0 && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  wait_for_temporary();
   ::kill(child, SIGTERM);
   int status = 0;
   ::waitpid(child, &status, 0);
