@@ -23,6 +23,8 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
+// Boundary samples of one measurement at most (a few hundred bytes each while measured).
+constexpr double kMaxBoundarySamples = 5e5;
 
 Box sphere_box(const Vec3& center, double radius) {
   const Vec3 extent = Vec3::Constant(radius);
@@ -406,6 +408,27 @@ class Envelope {
       sample_cone(cones_[piece - spheres], spacing, piece, out);
     else
       sample_triangle(triangles_[piece - spheres - cones], spacing, piece, out);
+  }
+
+  // How many samples sample_piece would give over all pieces at `spacing` (an upper bound for
+  // cones), counted in floating point: a sphere far larger than the shape must not overflow it.
+  double sample_count(double spacing) const {
+    double count = 0.0;
+    for (const Sphere& s : spheres_)
+      count += std::max(4.0, std::ceil(4.0 * kPi * s.radius * s.radius / (spacing * spacing)));
+    for (const Cone& c : cones_) {
+      if (c.is_sphere) continue;
+      const double slant = std::hypot(c.h + (c.r2 - c.r1) * c.b, (c.r1 - c.r2) * c.a);
+      const double rings = std::max(2.0, std::ceil(slant / spacing) + 1.0);
+      count += rings * std::max(3.0, std::ceil(2.0 * kPi * std::max(c.r1, c.r2) * c.a / spacing));
+    }
+    for (const auto& t : triangles_) {
+      const double longest =
+          std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+      const double n = std::max(1.0, std::ceil(longest / spacing));
+      count += (n + 1.0) * (n + 2.0) / 2.0;
+    }
+    return count;
   }
 
   // Samples `spacing` apart on every boundary piece (sphere, cone lateral surface, tangent
@@ -910,6 +933,10 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // be hidden by a new solid.
   const double tolerance = options.inside_tolerance * result.diagonal;
   double spacing = options.boundary_spacing * result.diagonal;
+  // Work and memory bounded whatever the medial mesh: primitives far larger than the shape
+  // are sampled more coarsely (the counts grow as 1 / spacing²).
+  const double expected = envelope.sample_count(spacing);
+  if (expected > kMaxBoundarySamples) spacing *= std::sqrt(expected / kMaxBoundarySamples);
   FreshPrimitives fresh_solids;
   find_fresh(
       envelope.solid_count(), impl_->solids, [&](int id) { return envelope.solid_key(id); },

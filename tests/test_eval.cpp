@@ -594,5 +594,19 @@ TEST(EvalReference, ReproducesPaperTable1) {
   }
 }
 
+// A medial mesh far larger than the shape (a hostile or broken .ma) is measured in bounded
+// work: at the default spacing this sphere alone would take ~10^8 boundary samples.
+TEST(EvalBounds, OutsizedPrimitivesAreSampledCoarser) {
+  const SurfaceInput shape = test::icosphere(Vec3::Zero(), 1.0, 2);
+  MedialMesh huge;
+  huge.spheres = {{Vec3::Zero(), 50.0}, {Vec3(60.0, 0.0, 0.0), 40.0}};
+  huge.edges = {{0, 1}};
+  const EvalResult result = evaluate(shape, huge);
+  EXPECT_LE(result.boundary_sample_count, 500000u);
+  EXPECT_GT(result.boundary_sample_count, 1000u);
+  EXPECT_TRUE(std::isfinite(result.hausdorff));
+  EXPECT_GT(result.hausdorff, 40.0);  // the far side of the big sphere
+}
+
 }  // namespace
 }  // namespace vmas
