@@ -169,12 +169,12 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     } else if (!surface.has_normals() || options.estimate_normals) {
       surface.normals = estimate_normals(surface.points, options.normals);
       report.normals_estimated = true;
-    } else if (options.orient_normals) {
-      fill_missing_normals(surface.points, surface.normals, options.normals);
-      orient_normals(surface.points, surface.normals, options.normals.k);
-      report.normals_oriented = true;
     } else {
       fill_missing_normals(surface.points, surface.normals, options.normals);
+      if (options.orient_normals) {
+        orient_normals(surface.points, surface.normals, options.normals.k);
+        report.normals_oriented = true;
+      }
     }
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -194,7 +194,6 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   const auto start = Clock::now();
   const std::size_t input_points = input.points.size();
   PreparedShape prepared = prepare_with_progress(std::move(input), options, progress);
-  const bool prepared_is_mesh = prepared.surface.is_mesh();
   Result result = std::move(prepared.result);
   const SkeletonizerOptions run = prepared.run;
   Skeletonizer skeletonizer(std::move(prepared.shape), run);
@@ -234,11 +233,9 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
   // number is exactly 1 inside, however long and thin its triangles (the estimate from the
   // vertices' areas and normals is not, next to such triangles).
-  const MeshDefects& defects = result.mesh_defects;
-  const bool watertight = prepared_is_mesh &&
-                          defects.boundary_edges == 0 && defects.non_manifold_edges == 0 &&
-                          defects.misoriented_edges == 0;
-  result.enclosure = watertight ? 1.0 : skeletonizer.projector().enclosure();
+  result.enclosure = prepared.surface.is_mesh() && result.mesh_defects.closed()
+                         ? 1.0
+                         : skeletonizer.projector().enclosure();
 
   // Labels of the shape's vertices, back through preparation and cleaning to the input.
   result.labels.assign(input_points, -1);

@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "io_fixture.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
@@ -21,34 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed afterwards.
-class IoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    static int counter = 0;
-    dir_ = fs::temp_directory_path() /
-           ("vmas_io_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  std::string write(const std::string& name, const std::string& contents) const {
-    std::ofstream(path(name), std::ios::binary) << contents;
-    return path(name);
-  }
-
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir_))
-      names.push_back(entry.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  fs::path dir_;
-};
+using test::IoTest;
 
 // Checks that `action` throws IoError with a one-line "PATH: ..." message mentioning `detail`.
 void expect_io_error(const std::function<void()>& action, const std::string& path,

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "io_fixture.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 
@@ -22,22 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class IoOutput : public ::testing::Test {
+class IoOutput : public test::IoTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vmas_output_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& contents) const {
-    std::ofstream(path(name), std::ios::binary) << contents;
-    return path(name);
-  }
   std::string read(const std::string& name) const {
     std::ifstream in(path(name), std::ios::binary);
     std::stringstream text;
@@ -58,8 +45,6 @@ class IoOutput : public ::testing::Test {
     while (leftovers() == 0 && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
       std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
-
-  fs::path dir_;
 };
 
 void expect_refused(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs,

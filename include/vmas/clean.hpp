@@ -41,6 +41,10 @@ struct MeshDefects {
   std::size_t non_manifold_edges = 0;  // on more than two faces
   std::size_t misoriented_edges = 0;   // its two faces run along it the same way: neighbouring
                                        // faces disagree on which side is outside
+  // A mesh without any of these bounds a volume (its winding number is exactly 1 inside).
+  bool closed() const {
+    return boundary_edges == 0 && non_manifold_edges == 0 && misoriented_edges == 0;
+  }
 };
 // Vertex indices are those of a cleaned surface (never negative; InvalidInput otherwise).
 MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces);
