@@ -105,15 +105,25 @@ class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
   std::unique_ptr<Index> index_;
 };
 
+// A point flagged by the statistical rule stays when it continues the sampling of its nearest
+// neighbour j that passed, only more sparsely (a random sampling's sparse tail, the rim of a
+// regular grid): within kNearReach of j's mean neighbour distance m_j, or within kFarReach × m_j
+// and kOffPlane × m_j of the plane through j's neighbourhood. A stray's nearest unflagged point
+// is the surface below it, and it lies off that surface's plane.
+constexpr double kNearReach = 1.0, kFarReach = 2.0, kOffPlane = 0.3;
+constexpr int kSparseRounds = 8;
+
 // The inliers among `candidates` by pcl::StatisticalOutlierRemoval's rule, computed as it does
-// (float distances, the same sums), but with the searcher above: the filter keeps its own
-// searcher private. A point whose mean distance to its k nearest neighbours in the whole cloud
-// exceeds the mean of those by `deviations` standard deviations is an outlier.
+// (float distances, the same sums), but with the searcher above (the filter keeps its own
+// searcher private): a point whose mean distance to its k nearest neighbours in the whole cloud
+// exceeds the mean of those by `deviations` standard deviations is flagged. Flagged points that
+// continue the sampling (kNearReach, kFarReach) are kept.
 std::vector<int> statistical_inliers(const FlannSearch& search,
                                      const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                      const std::vector<int>& candidates, int k, double deviations) {
   const int searched = k + 1;  // the point itself comes first
   std::vector<float> mean_distance(candidates.size(), 0.0f);
+  std::vector<int> neighbours_of(candidates.size() * k, -1);
   const auto count = static_cast<std::ptrdiff_t>(candidates.size());
   int measured = 0;
 #pragma omp parallel reduction(+ : measured)
@@ -126,6 +136,7 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
       double sum = 0.0;
       for (int j = 1; j < searched; ++j) sum += std::sqrt(squared[j]);
       mean_distance[i] = static_cast<float>(sum / k);
+      std::copy(neighbours.begin() + 1, neighbours.end(), neighbours_of.begin() + i * k);
       ++measured;
     }
   }
@@ -137,9 +148,58 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   const double mean = sum / measured;
   const double deviation = std::sqrt((squares - sum * sum / measured) / (measured - 1.0));
   const double threshold = mean + deviations * deviation;
+  // Position among the candidates of every cloud point (-1: removed by an earlier pass).
+  std::vector<int> candidate_of(cloud.size(), -1);
+  for (std::size_t i = 0; i < candidates.size(); ++i) candidate_of[candidates[i]] = static_cast<int>(i);
+  // Spacing of the sampling each candidate belongs to (its mean neighbour distance if it passed,
+  // that of the point it continues if it was kept as sparse), NaN while it is flagged.
+  std::vector<double> spacing(candidates.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (!(mean_distance[i] > threshold)) spacing[i] = mean_distance[i];
+  const auto position = [&](int point) { return cloud[point].getVector3fMap().cast<double>(); };
+  // Distance of `p` to the least-squares plane of candidate j and its neighbours.
+  const auto off_plane = [&](const Vec3& p, std::size_t j) {
+    Vec3 centroid = position(candidates[j]);
+    for (int n = 0; n < k; ++n) centroid += position(neighbours_of[j * k + n]);
+    centroid /= k + 1.0;
+    Eigen::Matrix3d covariance = (position(candidates[j]) - centroid) *
+                                 (position(candidates[j]) - centroid).transpose();
+    for (int n = 0; n < k; ++n) {
+      const Vec3 d = position(neighbours_of[j * k + n]) - centroid;
+      covariance += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+    return std::abs((p - centroid).dot(eigen.eigenvectors().col(0)));
+  };
+  // The spacing flagged candidate i continues (see kNearReach), NaN for none.
+  const auto continued_spacing = [&](std::size_t i) {
+    for (int n = 0; n < k; ++n) {
+      const int point = neighbours_of[i * k + n];
+      const int j = point < 0 ? -1 : candidate_of[point];
+      if (j < 0 || std::isnan(spacing[j])) continue;
+      const Vec3 p = position(candidates[i]);
+      const double gap = (p - position(point)).norm();
+      if (gap <= kNearReach * spacing[j] ||
+          (gap <= kFarReach * spacing[j] && off_plane(p, j) <= kOffPlane * spacing[j]))
+        return spacing[j];
+      break;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  // A sparse part is kept from its edge inwards, a few rounds (its flagged points may only have
+  // flagged neighbours); strays lie several spacings apart and never continue one another.
+  for (int round = 0; round < kSparseRounds; ++round) {
+    bool grown = false;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      if (!std::isnan(spacing[i])) continue;
+      spacing[i] = continued_spacing(i);
+      grown = grown || !std::isnan(spacing[i]);
+    }
+    if (!grown) break;
+  }
   std::vector<int> inliers;
   for (std::size_t i = 0; i < candidates.size(); ++i)
-    if (!(mean_distance[i] > threshold)) inliers.push_back(candidates[i]);
+    if (!std::isnan(spacing[i])) inliers.push_back(candidates[i]);
   return inliers;
 }
 

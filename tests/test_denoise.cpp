@@ -64,8 +64,25 @@ TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
     else
       far_strays_kept += std::abs(s.points[i].norm() - 1.0) > 0.1;
   }
-  EXPECT_GT(surface_kept, 0.99 * 10000);
+  EXPECT_EQ(surface_kept, 10000);
   EXPECT_LT(far_strays_kept, 0.1 * far_strays);
+}
+
+// A random sampling's sparse tail, creases, a thin wall and the rim of a regular grid are the
+// surface sampled more sparsely, not strays.
+TEST(DenoiseOutliers, CleanSparseSamplingsLoseNoPoint) {
+  const auto expect_whole = [](const std::vector<Vec3>& points, const char* what) {
+    EXPECT_EQ(inlier_indices(points, {}).size(), points.size()) << what;
+  };
+  for (int count : {2000, 5000, 30000}) {
+    expect_whole(test::sample_torus(1.0, 0.3, count, 7).points, "torus");
+    expect_whole(test::sample_box(Vec3(1.0, 0.6, 0.3), count, 8).points, "box");
+    expect_whole(test::sample_ellipsoid(Vec3(1.0, 0.5, 0.02), count, 9).points, "thin ellipsoid");
+  }
+  std::vector<Vec3> grid;
+  for (int i = 0; i < 45; ++i)
+    for (int j = 0; j < 45; ++j) grid.emplace_back(0.01 * i, 0.01 * j, 0.0);
+  expect_whole(grid, "regular grid");
 }
 
 TEST(DenoiseMls, PullsNoisyPointsBackOntoTheSurface) {

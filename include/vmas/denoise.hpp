@@ -41,9 +41,11 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
 
 // Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
 // outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
-// mean), ascending; repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of
-// the points. A first pass flagging more than 2 % has found uneven density: every point stays.
-// Clouds too small for it keep every point.
+// mean), ascending, except that a flagged point that continues the sampling of its nearest
+// unflagged neighbour (near it, or on its plane) stays: sparse parts of a clean sampling are not
+// strays. Repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of the points.
+// A first pass removing more than 2 % has found uneven density: every point stays. Clouds too
+// small for it keep every point.
 std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);
 
 // Projects every point onto the local quadric surface of PCL's MovingLeastSquares with support
