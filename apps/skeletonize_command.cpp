@@ -113,6 +113,11 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                     {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)}}},
                   {"diagonal", diagonal},
                   {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
+                  {"holes",
+                   {{"count", prepared.holes.size()},
+                    {"widest_percent",
+                     percent_of(prepared.holes.empty() ? 0.0 : prepared.holes.front().width,
+                                prepared.diagonal)}}},
                   {"components",
                    {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
                   {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
@@ -200,7 +205,11 @@ void print_summary(const json& s, const Settings& settings) {
                     : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
             << " lambda=" << o.run.lambda << " k=" << o.shape.k
             << " projection=" << (o.run.project ? "on" : "off") << "\n";
-  std::cout << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)\n";
+  std::cout << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";
+  if (s["holes"]["count"].get<int>() > 0)
+    std::cout << "; " << s["holes"]["count"] << " hole(s), the widest "
+              << s["holes"]["widest_percent"] << " % of the diagonal across";
+  std::cout << "\n";
   std::cout << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, "
             << s["medial_faces"] << " faces; " << s["iterations"] << " iterations"
             << (s["stopped_by_max_iterations"].get<bool>() ? " (stopped by --max-iterations)"

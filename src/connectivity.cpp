@@ -2,34 +2,11 @@
 
 #include <algorithm>
 
+#include "disjoint_sets.hpp"
+
 namespace vmas {
-namespace {
 
-// Union-find over `count` elements; returns the number of sets once every pair is joined.
-class Components {
- public:
-  explicit Components(int count) : parent_(count), sets_(count) {
-    for (int i = 0; i < count; ++i) parent_[i] = i;
-  }
-  void join(int a, int b) {
-    a = root(a);
-    b = root(b);
-    if (a == b) return;
-    parent_[std::max(a, b)] = std::min(a, b);
-    --sets_;
-  }
-  int sets() const { return sets_; }
-
- private:
-  int root(int i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  std::vector<int> parent_;
-  int sets_;
-};
-
-}  // namespace
+using internal::DisjointSets;
 
 std::vector<std::vector<int>> cluster_adjacency(const Shape& shape, const std::vector<int>& labels,
                                                 int cluster_count) {
@@ -77,19 +54,19 @@ MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
 }
 
 int component_count(const Shape& shape) {
-  Components components(shape.size());
+  DisjointSets components(shape.size());
   for (int v = 0; v < shape.size(); ++v)
     for (int i = shape.neighbour_offsets[v]; i < shape.neighbour_offsets[v + 1]; ++i)
-      components.join(v, shape.neighbours[i]);
+      components.unite(v, shape.neighbours[i]);
   return components.sets();
 }
 
 int component_count(const MedialMesh& mesh) {
-  Components components(static_cast<int>(mesh.spheres.size()));
-  for (const auto& edge : mesh.edges) components.join(edge[0], edge[1]);
+  DisjointSets components(static_cast<int>(mesh.spheres.size()));
+  for (const auto& edge : mesh.edges) components.unite(edge[0], edge[1]);
   for (const auto& face : mesh.faces) {
-    components.join(face[0], face[1]);
-    components.join(face[1], face[2]);
+    components.unite(face[0], face[1]);
+    components.unite(face[1], face[2]);
   }
   return components.sets();
 }

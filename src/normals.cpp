@@ -11,10 +11,13 @@
 #include <string>
 #include <tuple>
 
+#include "disjoint_sets.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
 namespace vmas {
+
+using internal::DisjointSets;
 
 namespace {
 
@@ -94,27 +97,6 @@ double edge_weight(const Vec3& p_a, const Vec3& p_b, const Vec3& n_a, const Vec3
   return 1.0 - std::abs(agreement(n_a, n_b, direction)) + cross_sheet +
          1e-3 * length / mean_spacing;
 }
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int count) : parent_(count) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  int find(int i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  bool unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent_[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // Minimum spanning forest (Kruskal) of the symmetric k-NN graph, as adjacency lists.
 std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,

@@ -32,6 +32,8 @@ constexpr int kMinMaxPoints = 1000;
 constexpr int kDeviationSamples = 4000;
 // Pairs of Taubin passes for a noisy mesh (smooth_mesh).
 constexpr int kMeshSmoothingSteps = 40;
+// Least reach of balls past the bounding box of open data (relative to the diagonal).
+constexpr double kMinOpenMargin = 1e-3;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
 
@@ -177,12 +179,20 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
       }
     }
   }
+  // A mesh's holes are its boundary edges (MeshDefects).
+  if (!surface.is_mesh()) report.holes = find_holes(surface.points, surface.normals);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 
 void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options) {
-  if (!(report.diagonal > 0.0) || !report.smoothed()) return;
+  if (!(report.diagonal > 0.0)) return;
+  // Through a hole a ball would grow until the bounding box stops it; the data says nothing of
+  // the surface beyond its extent but the noise.
+  if (!report.holes.empty())
+    options.box_margin = std::min(
+        options.box_margin, std::max(2.0 * report.residual_noise / report.diagonal, kMinOpenMargin));
+  if (!report.smoothed()) return;
   options.tolerance = std::clamp(2.0 * report.residual_noise / report.diagonal, options.tolerance,
                                  kMaxBallTolerance);
   options.reject_outside = true;

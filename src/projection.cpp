@@ -11,8 +11,6 @@
 namespace vmas {
 
 namespace {
-// How far past the data's bounding box a ball may reach, in diagonals.
-constexpr double kBoxMargin = 0.01;
 // Probe balls of the enclosure measure, and those narrower than this many sample spacings,
 // which measure no enclosed volume.
 constexpr int kEnclosureProbes = 200;
@@ -36,6 +34,9 @@ void ShrinkingBallOptions::validate() const {
   if (!(tolerance >= 0.0 && tolerance < 0.1))
     throw InvalidOption("ball-tolerance",
                         "must be in [0, 0.1) (got " + std::to_string(tolerance) + ")");
+  if (!(box_margin >= 0.0 && box_margin <= 1.0))
+    throw InvalidOption("shrinking-ball box margin must be in [0, 1] (got " +
+                        std::to_string(box_margin) + ")");
   if (!(initial_radius > 0.0 && initial_radius <= 100.0))
     throw InvalidOption("shrinking-ball initial radius must be in (0, 100] (got " +
                         std::to_string(initial_radius) + ")");
@@ -51,7 +52,7 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
       cos_denoise_(std::cos(options.denoise_angle_deg * M_PI / 180.0)) {
   options_.validate();
   const Box box = bounding_box(shape.points);
-  const Vec3 margin = Vec3::Constant(kBoxMargin * shape.diagonal);
+  const Vec3 margin = Vec3::Constant(options_.box_margin * shape.diagonal);
   box_low_ = box.min() - margin;
   box_high_ = box.max() + margin;
   const VertexBlocks& blocks = shape.blocks;

@@ -85,15 +85,29 @@ std::vector<Warning> warnings_about(const Result& result) {
                                   " edges): re-orient the mesh consistently"});
   warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
   // A mesh warning above already says why it encloses nothing.
-  if (result.enclosure < MedialProjector::kEnclosed && warnings.empty()) {
+  const std::vector<Hole>& holes = result.prepare.holes;
+  const bool unenclosed = result.enclosure < MedialProjector::kEnclosed && warnings.empty();
+  if (unenclosed || !holes.empty()) {
     char figure[32];
-    std::snprintf(figure, sizeof figure, "%.2g", result.enclosure);
+    std::string what;
+    if (unenclosed) {
+      std::snprintf(figure, sizeof figure, "%.2g", result.enclosure);
+      what = std::string("the data does not enclose a volume (winding number ") + figure +
+             " inside, 1 for a closed surface)";
+    }
+    if (!holes.empty()) {
+      std::snprintf(figure, sizeof figure, "%.1f",
+                    100.0 * holes.front().width / result.prepare.diagonal);
+      what += (unenclosed ? "; it has " : "the data is open: it has ") +
+              std::to_string(holes.size()) + (holes.size() == 1 ? " hole" : " holes") +
+              ", the widest " + figure + " % of the diagonal across";
+    }
     warnings.push_back(
-        {"open-surface", std::string("the data does not enclose a volume (winding number ") +
-                             figure +
-                             " inside, 1 for a closed surface): open or single-view scan, "
-                             "holes, or inconsistently oriented normals; the skeleton is only "
-                             "an approximation there"});
+        {"open-surface",
+         what + (unenclosed ? ": open or single-view scan, holes, or inconsistently oriented "
+                              "normals; the skeleton is only an approximation there"
+                            : ": the skeleton spans holes as if the surface went on across "
+                              "them, and can be far from the data there")});
   }
   if (result.skeleton_components > result.input_components)
     warnings.push_back(
@@ -107,9 +121,11 @@ std::vector<Warning> warnings_about(const Result& result) {
     warnings.push_back(
         {"large-error", std::string("the skeleton is ") + figure +
                             " % of the diagonal away from the data at its worst (two-sided "
-                            "Hausdorff distance to the data as prepared, smoothed when noisy): "
-                            "more spheres (--spheres) or a smaller --lambda fit the shape "
-                            "closer"});
+                            "Hausdorff distance to the data as prepared, smoothed when noisy): " +
+                            (holes.empty() ? std::string("more spheres (--spheres) or a smaller "
+                                                         "--lambda fit the shape closer")
+                                           : std::string("where it spans the data's holes, "
+                                                         "more spheres do not help"))});
   }
   if (result.summary.error_threshold_missed)
     warnings.push_back(

@@ -136,6 +136,33 @@ TEST_F(Cli, WarningsAreInTheJsonToo) {
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, AScanWithAHoleIsReportedOpen) {
+  // A sphere sampled without normals, whole and with the cap above z = 0.7 cut off.
+  const test::Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 8000, 21);
+  std::ostringstream whole, cut;
+  for (const Vec3& p : sphere.points) {
+    whole << p.x() << " " << p.y() << " " << p.z() << "\n";
+    if (p.z() < 0.7) cut << p.x() << " " << p.y() << " " << p.z() << "\n";
+  }
+  write("whole.xyz", whole.str());
+  write("cut.xyz", cut.str());
+  Result r = run("skeletonize " + path("whole.xyz") + " -n 10 --json -o " + path("whole.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["holes"]["count"], 0);
+  EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump();
+  r = run("skeletonize " + path("cut.xyz") + " -n 10 --json -o " + path("cut.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["holes"]["count"], 1);
+  // The rim: a circle of radius sqrt(1 - 0.7²) = 0.71, its box's diagonal 2.02, in a sphere's
+  // bounding box of diagonal 3.3 (the cut one's is a little smaller).
+  EXPECT_NEAR(summary["holes"]["widest_percent"].get<double>(), 100.0 * 2.02 / 3.3, 8.0);
+  ASSERT_FALSE(summary["warnings"].empty());
+  EXPECT_EQ(summary["warnings"][0]["code"], "open-surface");
+  EXPECT_NE(summary["warnings"][0]["message"].get<std::string>().find("1 hole"), std::string::npos);
+}
+
 TEST_F(Cli, BatchKeepsGoingAfterABrokenFile) {
   write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
   write("b.pcd", "##");

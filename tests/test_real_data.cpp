@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include "vmas/connectivity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"
@@ -41,18 +42,6 @@ double winding_number(const SurfaceInput& mesh, const Vec3& x) {
   return total / (4.0 * M_PI);
 }
 
-int connected_components(const MedialMesh& mesh) {
-  std::vector<int> parent(mesh.spheres.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> find = [&](int i) {
-    return parent[i] == i ? i : parent[i] = find(parent[i]);
-  };
-  for (const auto& e : mesh.edges) parent[find(e[0])] = find(e[1]);
-  int count = 0;
-  for (int i = 0; i < static_cast<int>(parent.size()); ++i) count += find(i) == i;
-  return count;
-}
-
 void expect_valid(const MedialMesh& mesh, std::size_t spheres) {
   ASSERT_EQ(mesh.spheres.size(), spheres);
   for (const Sphere& s : mesh.spheres) {
@@ -78,7 +67,7 @@ TEST_P(RealMesh, PaperSphereCountGivesAValidConnectedSkeletonInsideTheShape) {
   skeletonizer.run();
   const MedialMesh mesh = skeletonizer.medial_mesh();
   expect_valid(mesh, spheres);
-  EXPECT_EQ(connected_components(mesh), 1);
+  EXPECT_EQ(component_count(mesh), 1);
   for (const Sphere& s : mesh.spheres) EXPECT_GT(winding_number(surface, s.center), 0.5);
 }
 
@@ -135,7 +124,7 @@ TEST(RealMesh, NoisyMeshesLeaveNoSphereWithoutVertices) {
         for (int c = 0; c < spheres; ++c)
           EXPECT_GT(members[c], 0) << model << " sigma " << sigma << " seed " << seed << ": sphere "
                                    << c << " has no vertex";
-        EXPECT_EQ(connected_components(result.medial_mesh), 1)
+        EXPECT_EQ(component_count(result.medial_mesh), 1)
             << model << " sigma " << sigma << " seed " << seed;
         ++runs;
       }
@@ -155,7 +144,7 @@ TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
   skeletonizer.run();
   const MedialMesh mesh = skeletonizer.medial_mesh();
   expect_valid(mesh, 40);
-  EXPECT_EQ(connected_components(mesh), 1);
+  EXPECT_EQ(component_count(mesh), 1);
   // Medial balls of a closed-ish scan are small next to the shape.
   for (const Sphere& s : mesh.spheres) EXPECT_LT(s.radius, 0.5 * skeletonizer.shape().diagonal);
 }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "vmas/denoise.hpp"
+#include "vmas/holes.hpp"
 #include "vmas/normals.hpp"
 #include "vmas/projection.hpp"
 #include "vmas/subsample.hpp"
@@ -51,6 +52,7 @@ struct PrepareReport {
   int mesh_smoothing_steps = 0;  // meshes: Taubin steps along the faces (0: not smoothed)
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
+  std::vector<Hole> holes;      // clouds: holes of the prepared points, widest first
   double seconds = 0.0;
   bool smoothed() const { return mls_radius > 0.0 || mesh_smoothing_steps > 0; }
 };
@@ -62,10 +64,11 @@ struct PrepareReport {
 // smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
 
-// Shrinking-ball settings suited to what preparation left, for smoothed (noisy) data: samples
-// that scatter around the smoothed surface by the residual noise must not shrink a ball, and a
-// ball whose centre is outside the shape is rejected (noise flips normals near thin parts).
-// Clean data keeps `options` as they are.
+// Shrinking-ball settings suited to what preparation left. Smoothed (noisy) data: samples that
+// scatter around the smoothed surface by the residual noise must not shrink a ball, and a ball
+// whose centre is outside the shape is rejected (noise flips normals near thin parts). Data
+// with holes: balls reach past its bounding box by twice the residual noise at most (0.1 % of
+// the diagonal at least). Clean closed data keeps `options` as they are.
 void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options);
 
 }  // namespace vmas

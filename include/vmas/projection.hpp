@@ -17,6 +17,8 @@ struct ShrinkingBallOptions {
                                     // than this (noise, not a medial feature); 0 disables it
   bool reject_outside = false;      // reject balls whose centre the winding number puts outside
                                     // (when the data encloses a volume); for smoothed noisy data
+  double box_margin = 0.01;         // how far past the data's bounding box a ball may reach,
+                                    // relative to the diagonal
   void validate() const;            // throws InvalidOption
 };
 

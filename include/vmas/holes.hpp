@@ -1,0 +1,23 @@
+#pragma once
+// Holes of a sampled surface: where a scan stops (the side a scanned object stood on, an
+// occlusion, a cut), the points of the rim see all their neighbours on one side.
+#include <vector>
+
+#include "vmas/types.hpp"
+
+namespace vmas {
+
+struct Hole {
+  int rim_points = 0;  // points found on its rim
+  double width = 0.0;  // diagonal of the rim's bounding box (absolute)
+};
+
+// The holes of a cloud with oriented normals, widest first. A point is on a rim when, seen
+// along its normal, the directions to its 16 nearest neighbours leave a gap wider than 150°
+// and none of them lies on an opposite sheet (a fold, the edge of a thin part); rim points that
+// are neighbours form one rim, and a rim of at least 10 points is a hole. A clean random
+// sampling has such gaps at scattered points only (none of the 12 Table 1 models at 2 000 to
+// 30 000 points). Strong noise hides small holes. Empty for fewer than 17 points.
+std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals);
+
+}  // namespace vmas

@@ -1,0 +1,117 @@
+#include "vmas/holes.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+#include "disjoint_sets.hpp"
+#include "vmas/kdtree.hpp"
+
+namespace vmas {
+
+namespace {
+
+constexpr int kNeighbours = 16;
+// A half-disc of neighbours leaves a gap of ~180°; 16 random directions leave more than 150°
+// with probability ~0.5 %.
+constexpr double kRimGapRadians = 150.0 * M_PI / 180.0;
+constexpr int kMinRimPoints = 10;
+// A half-disc of neighbours spreads 0.28 as much across the rim as along it: a rim's
+// neighbourhood is neither a line (a thin part sampled by one row of points) nor thick (a thin
+// part sampled around, whose normals say little).
+constexpr double kMinWidthRatio = 0.05, kMaxThicknessRatio = 0.2;
+// Narrower holes are gaps of the sampling, in neighbourhood reaches (median).
+constexpr double kMinHoleWidth = 3.0;
+// Rim points link to their kRimLinks nearest rim points within kRimLinkReach of their
+// neighbourhood's reach.
+constexpr int kRimLinks = 4;
+constexpr double kRimLinkReach = 1.5;
+
+// Whether `p` (normal `n`) sees its neighbours `around` on one side only.
+bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, int p,
+            const std::vector<int>& around, std::vector<double>& angles) {
+  const Vec3& n = normals[p];
+  const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+  angles.clear();
+  for (int q : around) {
+    if (q == p) continue;
+    if (normals[q].dot(n) < 0.0) return false;  // a fold: two sheets meet here
+    const Vec3 d = points[q] - points[p];
+    angles.push_back(std::atan2(d.dot(v), d.dot(u)));
+  }
+
+  if (angles.size() < 2) return false;
+  Vec3 centroid = Vec3::Zero();
+  for (int q : around) centroid += points[q];
+  centroid /= static_cast<double>(around.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int q : around) covariance += (points[q] - centroid) * (points[q] - centroid).transpose();
+  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  if (spread[1] < kMinWidthRatio * spread[2]) return false;
+  if (spread[0] > kMaxThicknessRatio * spread[1]) return false;
+  std::sort(angles.begin(), angles.end());
+  double widest = angles.front() + 2.0 * M_PI - angles.back();
+  for (std::size_t i = 1; i < angles.size(); ++i) widest = std::max(widest, angles[i] - angles[i - 1]);
+  return widest > kRimGapRadians;
+}
+
+}  // namespace
+
+std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals) {
+  const int count = static_cast<int>(points.size());
+  if (count <= kNeighbours || normals.size() != points.size()) return {};
+  const KdTree tree(points);
+  std::vector<std::vector<int>> around(count);
+  std::vector<double> reach(count, 0.0);  // distance to the farthest of the neighbours
+  std::vector<char> rim(count, 0);
+#pragma omp parallel
+  {
+    std::vector<double> squared, angles;
+#pragma omp for schedule(static)
+    for (int p = 0; p < count; ++p) {
+      tree.k_nearest(points[p], kNeighbours + 1, around[p], squared);
+      reach[p] = std::sqrt(squared.back());
+      rim[p] = on_rim(points, normals, p, around[p], angles);
+    }
+  }
+  std::vector<int> rim_points;
+  std::vector<Vec3> rim_positions;
+  for (int p = 0; p < count; ++p)
+    if (rim[p]) {
+      rim_points.push_back(p);
+      rim_positions.push_back(points[p]);
+    }
+  if (rim_points.empty()) return {};
+  // Not every point along a rim sees the gap: rim points link across a few others.
+  const int rim_count = static_cast<int>(rim_points.size());
+  const KdTree rim_tree(rim_positions);
+  internal::DisjointSets rims(rim_count);
+  std::vector<int> nearest;
+  std::vector<double> squared;
+  for (int i = 0; i < rim_count; ++i) {
+    rim_tree.k_nearest(rim_positions[i], kRimLinks + 1, nearest, squared);
+    for (std::size_t j = 1; j < nearest.size(); ++j)
+      if (std::sqrt(squared[j]) <= kRimLinkReach * reach[rim_points[i]]) rims.unite(i, nearest[j]);
+  }
+  std::unordered_map<int, std::pair<int, Box>> by_root;
+  for (int i = 0; i < rim_count; ++i) {
+    auto& [size, box] = by_root[rims.find(i)];
+    ++size;
+    box.extend(points[rim_points[i]]);
+  }
+  const double min_width = kMinHoleWidth * median(reach);
+  std::vector<Hole> holes;
+  for (const auto& [root, rim_of] : by_root) {
+    const double width = rim_of.second.diagonal().norm();
+    if (rim_of.first >= kMinRimPoints && width >= min_width) holes.push_back({rim_of.first, width});
+  }
+  std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) {
+    return a.width != b.width ? a.width > b.width : a.rim_points > b.rim_points;
+  });
+  return holes;
+}
+
+}  // namespace vmas

@@ -1,0 +1,56 @@
+// Holes of sampled surfaces (find_holes) on shapes built in code, fixed seeds.
+#include <gtest/gtest.h>
+
+#include "test_shapes.hpp"
+#include "vmas/holes.hpp"
+
+namespace vmas {
+namespace {
+
+using test::Sample;
+
+// The points of `s` with z below `height`, normals kept.
+Sample cut_below(const Sample& s, double height) {
+  Sample kept;
+  for (std::size_t i = 0; i < s.points.size(); ++i)
+    if (s.points[i].z() < height) {
+      kept.points.push_back(s.points[i]);
+      kept.normals.push_back(s.normals[i]);
+    }
+  return kept;
+}
+
+TEST(Holes, ClosedSamplingsHaveNone) {
+  for (int count : {2000, 5000, 30000}) {
+    const Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, count, 11);
+    EXPECT_TRUE(find_holes(sphere.points, sphere.normals).empty()) << "sphere, " << count;
+    const Sample torus = test::sample_torus(1.0, 0.3, count, 12);
+    EXPECT_TRUE(find_holes(torus.points, torus.normals).empty()) << "torus, " << count;
+    const Sample box = test::sample_box(Vec3(1.0, 0.6, 0.3), count, 13);
+    EXPECT_TRUE(find_holes(box.points, box.normals).empty()) << "box, " << count;
+    // Two sheets closer than the sample spacing, joined at a sharp rim: a fold, not a hole.
+    const Sample plate = test::sample_ellipsoid(Vec3(1.0, 0.5, 0.01), count, 14);
+    EXPECT_TRUE(find_holes(plate.points, plate.normals).empty()) << "thin plate, " << count;
+  }
+}
+
+TEST(Holes, ACapCutOffIsOneHoleAsWideAsTheCut) {
+  for (int count : {2000, 30000}) {
+    // The cap above z = 0.8 of a unit sphere leaves a circle of radius 0.6.
+    const Sample open = cut_below(test::sample_sphere(Vec3::Zero(), 1.0, count, 15), 0.8);
+    const std::vector<Hole> holes = find_holes(open.points, open.normals);
+    ASSERT_GE(holes.size(), 1u) << count;
+    EXPECT_NEAR(holes.front().width, 1.2 * std::sqrt(2.0), 0.25) << count;
+    EXPECT_GE(holes.front().rim_points, 20) << count;
+  }
+}
+
+TEST(Holes, TooFewPointsOrNoNormalsFindNothing) {
+  const Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 16, 16);
+  EXPECT_TRUE(find_holes(s.points, s.normals).empty());
+  const Sample t = test::sample_sphere(Vec3::Zero(), 1.0, 100, 17);
+  EXPECT_TRUE(find_holes(t.points, {}).empty());
+}
+
+}  // namespace
+}  // namespace vmas
