@@ -142,8 +142,8 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, doubl
 // thin part can be cheap while its removal opens a hole). The new sphere is frozen and comes last.
 // Returns the removed sphere's id; -1 when no sphere can go (the new one is left in place: the
 // caller restores its last state).
-int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const EvalResult& now) {
-  const bool uncovered = aims_at_uncovered(now);
+int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const EvalResult& now,
+                   bool uncovered) {
   const MedialProjector& projector = skeletonizer.projector();
   // A surface point far from the reconstruction gets the medial ball touching it; a bulge of
   // the reconstruction gets the medial sphere under the interpolated sphere that makes it.
@@ -214,6 +214,14 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
   // Spheres placed by kept moves stay frozen until the end, so that no later move undoes them.
   std::vector<bool> placed(skeletonizer.spheres().size(), false);
   int small_gains = 0;  // kept moves in a row that gained less than min_gain
+  // A move aims at the worse side of the error; when that fails, once at the other side.
+  bool aim_uncovered = aims_at_uncovered(best), aim_switched = false;
+  const auto switch_aim = [&] {
+    if (aim_switched) return false;
+    aim_switched = true;
+    aim_uncovered = !aim_uncovered;
+    return true;
+  };
   while (report.tried < options.max_moves) {
     if (progress &&
         !progress(Progress{Progress::Phase::Refining, report.tried,
@@ -223,9 +231,10 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
       report.cancelled = true;
       break;
     }
-    const int removed = add_and_remove(skeletonizer, best_medial, best);
+    const int removed = add_and_remove(skeletonizer, best_medial, best, aim_uncovered);
     if (removed < 0) {
       skeletonizer.restore(best_state);
+      if (switch_aim()) continue;
       break;
     }
     ++report.tried;
@@ -243,13 +252,14 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     }
     if (!better(trial)) {
       skeletonizer.restore(best_state);
+      if (switch_aim()) continue;
       break;
     }
     placed.erase(placed.begin() + removed);
     placed.push_back(true);
     // The gain on the side the move aimed at: when both sides are close, the other one can hold
     // the two-sided error while the aimed one drops.
-    const bool aimed_uncovered = aims_at_uncovered(best);
+    const bool aimed_uncovered = aim_uncovered;
     const double aimed_before =
         aimed_uncovered ? best.surface_to_medial_max : best.medial_to_surface_max;
     const double aimed_after =
@@ -260,6 +270,8 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     best_state = skeletonizer.state();
     ++report.kept;
     small_gains = small_gain ? small_gains + 1 : 0;
+    aim_uncovered = aims_at_uncovered(best);
+    aim_switched = false;
     if (small_gains == 2) break;
   }
   for (int c = 0; c < static_cast<int>(placed.size()); ++c)

@@ -26,8 +26,9 @@ struct RefineReport {
   bool cancelled = false;  // the progress callback returned false
 };
 
-// Moves spheres of a finished run (Skeletonizer::run) until a move does not lower the measured
-// error, a move gains little, or max_moves were tried. `surface` is what the skeletonizer's shape
+// Moves spheres of a finished run (Skeletonizer::run) until a move aimed at the worse side of the
+// measured error and one aimed at the other side both fail to lower it, moves gain little, or
+// max_moves were tried. `surface` is what the skeletonizer's shape
 // was built from, in the same frame: the error is measured against it. `progress` is called
 // before every move (Phase::Refining; error = the measured error / diagonal); returning false
 // stops with the best state so far. Deterministic for any thread count; frozen spheres are
