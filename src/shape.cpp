@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <utility>
 
+#include "disjoint_sets.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 #include "vmas/subsample.hpp"
@@ -88,6 +90,29 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
   set_neighbour_graph(shape, std::move(edges));
 }
 
+// Neighbours searched to join the pieces of a k-NN graph: a sampling that is dense in one
+// direction and sparse in the other (the vertices of a mesh of long thin triangles) falls apart
+// into rows at k = 6 (vessel's vertices: 87 pieces).
+constexpr int kBridgeK = 16;
+
+// Joins the pieces of the graph `edges` by the shortest of the `wider` neighbour pairs that
+// connect two pieces (Kruskal over those pairs, after the graph's own edges): the minimum
+// spanning forest's bridges. A connected graph gains nothing.
+void add_bridges(const std::vector<std::vector<std::pair<double, int>>>& wider,
+                 std::vector<std::pair<int, int>>& edges) {
+  const int n = static_cast<int>(wider.size());
+  internal::DisjointSets pieces(n);
+  for (const auto& [a, b] : edges) pieces.unite(a, b);
+  if (pieces.sets() == 1) return;
+  std::vector<std::tuple<double, int, int>> candidates;
+  for (int v = 0; v < n; ++v)
+    for (const auto& [squared, other] : wider[v])
+      if (pieces.find(v) != pieces.find(other)) candidates.emplace_back(squared, v, other);
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& [squared, a, b] : candidates)
+    if (pieces.unite(a, b)) edges.emplace_back(a, b);
+}
+
 void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& options, Shape& shape) {
   const int n = shape.size();
   if (!input.has_normals()) throw InvalidInput("a point cloud needs normals (estimate them first)");
@@ -103,6 +128,7 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.
   const int area_k = std::max(6, options.k);
   std::vector<std::vector<int>> knn(n);
+  std::vector<std::vector<std::pair<double, int>>> wider(n);  // (squared distance, neighbour)
   shape.area.assign(n, 0.0);
 #pragma omp parallel
   {
@@ -110,13 +136,16 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
     std::vector<double> distances;
 #pragma omp for schedule(static)
     for (int v = 0; v < n; ++v) {
-      tree.k_nearest(shape.points[v], area_k + 1, indices, distances);
+      tree.k_nearest(shape.points[v], std::max(area_k, kBridgeK) + 1, indices, distances);
+      const std::size_t area_count = std::min<std::size_t>(area_k + 1, distances.size());
       double mean = 0.0;
-      for (std::size_t i = 1; i < distances.size(); ++i) mean += std::sqrt(distances[i]);
-      mean /= static_cast<double>(distances.size() - 1);
+      for (std::size_t i = 1; i < area_count; ++i) mean += std::sqrt(distances[i]);
+      mean /= static_cast<double>(area_count - 1);
       shape.area[v] = mean * mean;
       // The k nearest including v itself: the support of the diffused quadric (eq. 5).
       knn[v].assign(indices.begin(), indices.begin() + std::min<int>(options.k, indices.size()));
+      for (std::size_t i = 1; i < indices.size(); ++i)
+        wider[v].push_back({distances[i], indices[i]});
     }
   }
   shape.quadric.assign(n, Sqem{});
@@ -128,6 +157,7 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
       if (j != v) edges.emplace_back(v, j);
     }
   }
+  add_bridges(wider, edges);
   set_neighbour_graph(shape, std::move(edges));
 }
 

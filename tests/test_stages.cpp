@@ -1,6 +1,7 @@
 // Properties of the individual stages on shapes built in code.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -68,6 +69,25 @@ TEST(Shape, CloudWithoutNormalsIsRejected) {
   ShapeOptions bad;
   bad.k = 1;
   EXPECT_THROW(bad.validate(), InvalidOption);
+}
+
+TEST(Shape, ACloudSampledInRowsIsOneGraph) {
+  // A cylinder sampled in rings: dense around (spacing ~0.006), sparse along (0.03). Every point's
+  // six nearest neighbours lie on its own ring; the rings are one surface all the same.
+  SurfaceInput rings;
+  for (int ring = 0; ring < 20; ++ring)
+    for (int i = 0; i < 100; ++i) {
+      const double angle = 2.0 * M_PI * i / 100.0;
+      const Vec3 normal(std::cos(angle), std::sin(angle), 0.0);
+      rings.points.push_back(0.1 * normal + Vec3(0.0, 0.0, 0.03 * ring));
+      rings.normals.push_back(normal);
+    }
+  ShapeOptions six;
+  six.k = 6;
+  const Shape shape = build_shape(rings, six);
+  EXPECT_EQ(component_count(shape), 1);
+  // The bridges are few: the k-NN graph is kept as it is.
+  EXPECT_LT(shape.neighbours.size(), 2u * 6u * rings.points.size() + 2u * 40u);
 }
 
 TEST(Projection, ShrinkingBallIsEmptyAndTouchesItsPoint) {

@@ -1,7 +1,8 @@
 #pragma once
 // The shape as the method sees it (paper §3.1): positions, outward unit normals, per-vertex
 // support area A(v), the diffused quadric Q_v of each vertex, and a symmetric neighbour graph
-// (mesh edges, or the k-NN graph of a cloud) used for cluster adjacency.
+// (mesh edges, or the k-NN graph of a cloud, its pieces joined by their shortest bridges among
+// the 16 nearest neighbours) used for cluster adjacency.
 #include <cstddef>
 #include <vector>
 
