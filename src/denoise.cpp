@@ -458,8 +458,9 @@ double mls_deviation(const std::vector<Vec3>& points, double radius, int samples
   return median(std::move(distances)) / kHalfNormalMedian;
 }
 
-void smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
-                 int steps) {
+double smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+                   int steps) {
+  const std::vector<Vec3> noisy = points;
   const int count = static_cast<int>(points.size());
   // Each vertex's edge neighbours, once each (CSR).
   std::vector<std::pair<int, int>> edges;
@@ -496,6 +497,21 @@ void smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>
     pass(kLambda);
     pass(kMu);
   }
+  // How far the vertices moved across the smoothed surface (area-weighted vertex normals).
+  std::vector<Vec3> normals(points.size(), Vec3::Zero());
+  for (const auto& face : faces) {
+    const Vec3 area = (points[face[1]] - points[face[0]]).cross(points[face[2]] - points[face[0]]);
+    for (int v : face) normals[v] += area;
+  }
+  double squares = 0.0;
+  int moved_count = 0;
+  for (int v = 0; v < count; ++v) {
+    const double length = normals[v].norm();
+    if (!(length > 0.0)) continue;
+    squares += std::pow((noisy[v] - points[v]).dot(normals[v]) / length, 2);
+    ++moved_count;
+  }
+  return moved_count > 0 ? std::sqrt(squares / moved_count) : 0.0;
 }
 
 }  // namespace vmas

@@ -136,7 +136,10 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     // A noisy mesh stays a mesh: its faces say what the surface connects, whatever the
     // vertices' noise (and a closed one stays closed).
     report.mesh_smoothing_steps = kMeshSmoothingSteps;
-    smooth_mesh(surface.points, surface.faces, report.mesh_smoothing_steps);
+    const double moved = smooth_mesh(surface.points, surface.faces, report.mesh_smoothing_steps);
+    // Local fits read strong noise low; the smoothing's displacement does not.
+    if (options.denoise == PrepareOptions::Denoise::Auto)
+      report.noise.sigma = std::max(report.noise.sigma, moved);
     report.residual_noise = estimate_noise(surface.points).sigma;
   } else if (noisy) {
     // The support must hold enough samples for a quadric fit even when the noise is far below

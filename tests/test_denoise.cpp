@@ -161,6 +161,22 @@ TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
   }
 }
 
+// Local fits read strong noise low; the smoothing's displacement measures it.
+TEST(PrepareNoisy, NoiseOfAMeshIsMeasuredAtEveryLevel) {
+  const SurfaceInput clean = test::icosphere(Vec3::Zero(), 1.0, 5);
+  const double diagonal = test::bounding_diagonal(clean.points);
+  for (double fraction : {0.0025, 0.005, 0.01, 0.02, 0.03}) {
+    SurfaceInput mesh = clean;
+    mesh.points = test::with_noise(clean.points, fraction * diagonal, 22);
+    double squares = 0.0;  // the noise as distance to the surface
+    for (const Vec3& p : mesh.points) squares += std::pow(p.norm() - 1.0, 2);
+    const double sigma = std::sqrt(squares / mesh.points.size());
+    const PrepareReport report = prepare_surface(mesh, {});
+    EXPECT_GT(report.noise.sigma, 0.75 * sigma) << "noise " << fraction;
+    EXPECT_LT(report.noise.sigma, 1.25 * sigma) << "noise " << fraction;
+  }
+}
+
 // A noisy mesh stays a mesh: every face kept, the vertices pulled back towards the surface, and
 // the result judged closed.
 TEST(PrepareNoisy, NoisyMeshKeepsItsFacesAndStaysClosed) {

@@ -60,9 +60,11 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 // neighbours. The faces say which vertices belong to the same sheet, so the two sides of a thin
 // part never merge (they do under a smoothing by distance, such as MLS), and the uniform weights
 // also even out the vertices along the surface, which unfolds faces that noise has folded.
-// Vertices on no edge stay. Deterministic whatever the thread count.
-void smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
-                 int steps);
+// Vertices on no edge stay. Deterministic whatever the thread count. Returns the RMS distance
+// by which the vertices moved across the smoothed surface (along its vertex normals): the noise,
+// where local fits to strong noise read it low.
+double smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+                   int steps);
 
 // The robust deviation (median distance / 0.6745) by which smooth_mls(points, radius) would move
 // the points, measured at about `samples` of them spread evenly through the array: the surface
