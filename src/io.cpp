@@ -28,10 +28,28 @@ void check_readable(const std::string& path) {
 
 }  // namespace
 
-std::string read_file(const std::string& path) {
+// Bytes read first to tell whether the file can be of its format at all.
+constexpr std::size_t kSniffedBytes = 4096;
+
+std::string read_file(const std::string& path, const std::string& extension) {
   check_readable(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  std::string start(kSniffedBytes, '\0');
+  in.read(start.data(), static_cast<std::streamsize>(start.size()));
+  if (in.bad()) fail(path, "read error");
+  start.resize(static_cast<std::size_t>(in.gcount()));
+  if (extension == ".ply") {
+    check_ply_start(path, start);
+  } else {
+    // A PCD's header is text up to its DATA line.
+    const std::size_t text_end = extension == ".pcd" ? start.find("DATA") : std::string::npos;
+    if (const std::size_t nul = start.substr(0, text_end).find('\0'); nul != std::string::npos)
+      fail(path, "binary data where text is expected (a NUL byte at offset " +
+                     std::to_string(nul) + ")");
+  }
+  in.clear();
+  in.seekg(0);
   std::string bytes(std::filesystem::file_size(path), '\0');  // no regrowth: 1x the file
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (in.bad()) fail(path, "read error");
@@ -56,7 +74,7 @@ SurfaceInput read_surface_as_stored(const std::string& path) {
     surface = io_internal::read_pcd(path);
   } else if (extension == ".off" || extension == ".ply" || extension == ".obj" ||
              extension == ".xyz" || extension == ".txt") {
-    const std::string bytes = read_file(path);
+    const std::string bytes = read_file(path, extension);
     if (extension == ".off")
       surface = io_internal::parse_off(path, bytes);
     else if (extension == ".ply")
@@ -90,7 +108,7 @@ MedialMesh read_medial_mesh(const std::string& path) {
   const std::string extension = lower_extension(path);
   if (extension != ".ma" && extension != ".ply")
     fail(path, "unknown medial mesh extension " + quote(extension) + " (expected .ply or .ma)");
-  const std::string bytes = read_file(path);
+  const std::string bytes = read_file(path, extension);
   return extension == ".ma" ? io_internal::parse_ma(path, bytes)
                             : io_internal::parse_ply_medial(path, bytes);
 }

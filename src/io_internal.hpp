@@ -288,8 +288,13 @@ inline bool in_range(const Sphere& sphere) {
 }
 
 // The whole file in memory (no regrowth: 1x its size); fails if it is missing, a directory or
-// empty.
-std::string read_file(const std::string& path);
+// empty, and, before reading it all, if its first bytes cannot start a file of `extension`
+// (a PLY without its 'ply' line; a NUL byte in a text format): a 2 GB file of zeros is refused
+// after 4 KB.
+std::string read_file(const std::string& path, const std::string& extension);
+
+// Fails unless `start` (a file's first bytes) begins with PLY's 'ply' line.
+void check_ply_start(const std::string& path, std::string_view start);
 
 // One reader per format (io_FORMAT.cpp); each fails with "PATH: problem".
 SurfaceInput parse_off(const std::string& path, std::string_view text);

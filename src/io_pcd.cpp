@@ -49,7 +49,7 @@ bool pcd_scalar(char type, std::size_t size, ScalarType& scalar) {
 }  // namespace
 
 SurfaceInput read_pcd(const std::string& path) {
-  const std::string bytes = read_file(path);
+  const std::string bytes = read_file(path, ".pcd");
   LineTokenizer lines(path, bytes);
   std::vector<std::string_view> tokens;
   std::vector<PcdField> fields;

@@ -66,11 +66,21 @@ struct PlyFile {
   }
 };
 
+}  // namespace
+
+void check_ply_start(const std::string& path, std::string_view start) {
+  const std::size_t line_end = start.find('\n');
+  if (start.substr(0, 3) != "ply" || line_end == std::string_view::npos ||
+      trim(start.substr(0, line_end)) != "ply")
+    fail(path, "bad header: not a PLY file (no 'ply' first line)");
+}
+
+namespace {
+
 // Parses the header; returns the offset of the body and sets `header_lines`.
 std::size_t parse_ply_header(const std::string& path, std::string_view bytes, PlyFile& ply,
                              std::size_t& header_lines) {
-  if (bytes.substr(0, 3) != "ply" || trim(bytes.substr(0, bytes.find('\n'))) != "ply")
-    fail(path, "bad header: not a PLY file (no 'ply' first line)");
+  check_ply_start(path, bytes);
   std::size_t body = std::string_view::npos;
   std::size_t end_line_start = 0;
   header_lines = 0;

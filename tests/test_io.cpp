@@ -254,6 +254,25 @@ TEST_F(IoPly, MalformedFilesThrow) {
   expect_io_error([&] { read_medial_mesh(no_radius); }, no_radius, "radius");
 }
 
+// A file of zeros (a failed copy, a sparse placeholder) is refused from its first bytes, before
+// vmas reads it all, for every format.
+TEST_F(IoPly, ZeroFilesAreRefusedFromTheirStart) {
+  const std::string zeros(1 << 20, '\0');
+  for (const char* name : {"z.ply", "z.off", "z.obj", "z.xyz", "z.pcd"}) {
+    const std::string file = write(name, zeros);
+    expect_io_error([&] { read_surface(file); }, file,
+                    std::string(name) == "z.ply" ? "not a PLY file" : "a NUL byte at offset 0");
+  }
+  const std::string medial = write("z.ma", zeros);
+  expect_io_error([&] { read_medial_mesh(medial); }, medial, "a NUL byte at offset 0");
+  // Text with a NUL past its header is still read (binary PCD data).
+  const std::string pcd = write("b.pcd",
+                                "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA binary\n" +
+                                    std::string(12, '\0'));
+  EXPECT_EQ(read_surface_as_stored(pcd).points.size(), 1u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // OFF, OBJ, XYZ
 
