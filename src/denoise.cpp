@@ -116,11 +116,12 @@ constexpr int kSparseRounds = 8;
 // The inliers among `candidates` by pcl::StatisticalOutlierRemoval's rule, computed as it does
 // (float distances, the same sums), but with the searcher above (the filter keeps its own
 // searcher private): a point whose mean distance to its k nearest neighbours in the whole cloud
-// exceeds the mean of those by `deviations` standard deviations is flagged. Flagged points that
-// continue the sampling (kNearReach, kFarReach) are kept.
+// exceeds the mean of those by `deviations` standard deviations is flagged. With `keep_sparse`,
+// flagged points that continue the sampling (kNearReach, kFarReach) are kept.
 std::vector<int> statistical_inliers(const FlannSearch& search,
                                      const pcl::PointCloud<pcl::PointXYZ>& cloud,
-                                     const std::vector<int>& candidates, int k, double deviations) {
+                                     const std::vector<int>& candidates, int k, double deviations,
+                                     bool keep_sparse) {
   const int searched = k + 1;  // the point itself comes first
   std::vector<float> mean_distance(candidates.size(), 0.0f);
   std::vector<int> neighbours_of(candidates.size() * k, -1);
@@ -188,7 +189,7 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   };
   // A sparse part is kept from its edge inwards, a few rounds (its flagged points may only have
   // flagged neighbours); strays lie several spacings apart and never continue one another.
-  for (int round = 0; round < kSparseRounds; ++round) {
+  for (int round = 0; keep_sparse && round < kSparseRounds; ++round) {
     bool grown = false;
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (!std::isnan(spacing[i])) continue;
@@ -327,7 +328,8 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options) {
   return noise.sigma > options.clean_fraction_of_spacing * noise.spacing;
 }
 
-std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options) {
+std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options,
+                                bool keep_sparse) {
   options.validate();
   // Gross outliers inflate the deviation of the neighbour distances that the filter measures
   // them against, so that those nearer the surface survive a pass; passes repeat while they
@@ -345,7 +347,8 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     if (static_cast<int>(kept.size()) <= 2 * options.outlier_k) break;
     const std::vector<int> inliers =
-        statistical_inliers(search, *cloud, kept, options.outlier_k, options.outlier_deviations);
+        statistical_inliers(search, *cloud, kept, options.outlier_k, options.outlier_deviations,
+                            keep_sparse);
     const std::size_t removed = kept.size() - inliers.size();
     kept = inliers;
     const double share = static_cast<double>(removed) / static_cast<double>(points.size());
