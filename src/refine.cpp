@@ -240,8 +240,11 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     ++report.tried;
     // First the move alone (the rest stays as it is); if that does not help, the neighbours
     // adapt to it: a few steps and the final refits, the new sphere held in place.
+    // A move at the other side must gain noticeably: against smoothed noisy data a tiny gain
+    // is as likely a loss against the true surface.
+    const double needed = aim_switched ? (1.0 - options.min_gain) * best.hausdorff : best.hausdorff;
     const auto better = [&](const EvalResult& trial) {
-      return trial.hausdorff < best.hausdorff && components <= best_components;
+      return trial.hausdorff < needed && components <= best_components;
     };
     EvalResult trial = measure();
     if (!better(trial)) {
