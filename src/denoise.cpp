@@ -31,6 +31,7 @@
 #include <string>
 
 #include "flann_query.hpp"
+#include "principal_axes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -105,26 +106,15 @@ class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
   std::unique_ptr<Index> index_;
 };
 
-// A point flagged by the statistical rule stays when it continues the sampling of its nearest
-// neighbour j that passed, only more sparsely (a random sampling's sparse tail, the rim of a
-// regular grid): within kNearReach of j's mean neighbour distance m_j, or within kFarReach × m_j
-// and kOffPlane × m_j of the plane through j's neighbourhood. A stray's nearest unflagged point
-// is the surface below it, and it lies off that surface's plane.
-constexpr double kNearReach = 1.0, kFarReach = 2.0, kOffPlane = 0.3;
-constexpr int kSparseRounds = 8;
-
 // The inliers among `candidates` by pcl::StatisticalOutlierRemoval's rule, computed as it does
-// (float distances, the same sums), but with the searcher above (the filter keeps its own
-// searcher private): a point whose mean distance to its k nearest neighbours in the whole cloud
-// exceeds the mean of those by `deviations` standard deviations is flagged. With `keep_sparse`,
-// flagged points that continue the sampling (kNearReach, kFarReach) are kept.
+// (float distances, the same sums), but with the searcher above: the filter keeps its own
+// searcher private. A point whose mean distance to its k nearest neighbours in the whole cloud
+// exceeds the mean of those by `deviations` standard deviations is an outlier.
 std::vector<int> statistical_inliers(const FlannSearch& search,
                                      const pcl::PointCloud<pcl::PointXYZ>& cloud,
-                                     const std::vector<int>& candidates, int k, double deviations,
-                                     bool keep_sparse) {
+                                     const std::vector<int>& candidates, int k, double deviations) {
   const int searched = k + 1;  // the point itself comes first
   std::vector<float> mean_distance(candidates.size(), 0.0f);
-  std::vector<int> neighbours_of(candidates.size() * k, -1);
   const auto count = static_cast<std::ptrdiff_t>(candidates.size());
   int measured = 0;
 #pragma omp parallel reduction(+ : measured)
@@ -137,7 +127,6 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
       double sum = 0.0;
       for (int j = 1; j < searched; ++j) sum += std::sqrt(squared[j]);
       mean_distance[i] = static_cast<float>(sum / k);
-      std::copy(neighbours.begin() + 1, neighbours.end(), neighbours_of.begin() + i * k);
       ++measured;
     }
   }
@@ -149,58 +138,9 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   const double mean = sum / measured;
   const double deviation = std::sqrt((squares - sum * sum / measured) / (measured - 1.0));
   const double threshold = mean + deviations * deviation;
-  // Position among the candidates of every cloud point (-1: removed by an earlier pass).
-  std::vector<int> candidate_of(cloud.size(), -1);
-  for (std::size_t i = 0; i < candidates.size(); ++i) candidate_of[candidates[i]] = static_cast<int>(i);
-  // Spacing of the sampling each candidate belongs to (its mean neighbour distance if it passed,
-  // that of the point it continues if it was kept as sparse), NaN while it is flagged.
-  std::vector<double> spacing(candidates.size(), std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t i = 0; i < candidates.size(); ++i)
-    if (!(mean_distance[i] > threshold)) spacing[i] = mean_distance[i];
-  const auto position = [&](int point) { return cloud[point].getVector3fMap().cast<double>(); };
-  // Distance of `p` to the least-squares plane of candidate j and its neighbours.
-  const auto off_plane = [&](const Vec3& p, std::size_t j) {
-    Vec3 centroid = position(candidates[j]);
-    for (int n = 0; n < k; ++n) centroid += position(neighbours_of[j * k + n]);
-    centroid /= k + 1.0;
-    Eigen::Matrix3d covariance = (position(candidates[j]) - centroid) *
-                                 (position(candidates[j]) - centroid).transpose();
-    for (int n = 0; n < k; ++n) {
-      const Vec3 d = position(neighbours_of[j * k + n]) - centroid;
-      covariance += d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-    return std::abs((p - centroid).dot(eigen.eigenvectors().col(0)));
-  };
-  // The spacing flagged candidate i continues (see kNearReach), NaN for none.
-  const auto continued_spacing = [&](std::size_t i) {
-    for (int n = 0; n < k; ++n) {
-      const int point = neighbours_of[i * k + n];
-      const int j = point < 0 ? -1 : candidate_of[point];
-      if (j < 0 || std::isnan(spacing[j])) continue;
-      const Vec3 p = position(candidates[i]);
-      const double gap = (p - position(point)).norm();
-      if (gap <= kNearReach * spacing[j] ||
-          (gap <= kFarReach * spacing[j] && off_plane(p, j) <= kOffPlane * spacing[j]))
-        return spacing[j];
-      break;
-    }
-    return std::numeric_limits<double>::quiet_NaN();
-  };
-  // A sparse part is kept from its edge inwards, a few rounds (its flagged points may only have
-  // flagged neighbours); strays lie several spacings apart and never continue one another.
-  for (int round = 0; keep_sparse && round < kSparseRounds; ++round) {
-    bool grown = false;
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-      if (!std::isnan(spacing[i])) continue;
-      spacing[i] = continued_spacing(i);
-      grown = grown || !std::isnan(spacing[i]);
-    }
-    if (!grown) break;
-  }
   std::vector<int> inliers;
   for (std::size_t i = 0; i < candidates.size(); ++i)
-    if (!std::isnan(spacing[i])) inliers.push_back(candidates[i]);
+    if (!(mean_distance[i] > threshold)) inliers.push_back(candidates[i]);
   return inliers;
 }
 
@@ -209,18 +149,12 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
 // neighbourhood is degenerate.
 double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>& indices) {
   const int count = static_cast<int>(indices.size());
-  Vec3 centroid = Vec3::Zero();
-  for (int i : indices) centroid += points[i];
-  centroid /= count;
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int i : indices) {
-    const Vec3 d = points[i] - centroid;
-    covariance += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  const Vec3 normal = eigen.eigenvectors().col(0);
-  const Vec3 u = eigen.eigenvectors().col(2);
-  const Vec3 v = eigen.eigenvectors().col(1);
+  const internal::PrincipalAxes fit = internal::principal_axes(points, indices);
+  if (!fit.valid) return std::numeric_limits<double>::quiet_NaN();
+  const Vec3& centroid = fit.centroid;
+  const Vec3 normal = fit.normal();
+  const Vec3 u = fit.axes.col(2);
+  const Vec3 v = fit.axes.col(1);
   Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
   double height_squares = 0.0;
@@ -328,8 +262,7 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options) {
   return noise.sigma > options.clean_fraction_of_spacing * noise.spacing;
 }
 
-std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options,
-                                bool keep_sparse) {
+std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options) {
   options.validate();
   // Gross outliers inflate the deviation of the neighbour distances that the filter measures
   // them against, so that those nearer the surface survive a pass; passes repeat while they
@@ -347,8 +280,7 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     if (static_cast<int>(kept.size()) <= 2 * options.outlier_k) break;
     const std::vector<int> inliers =
-        statistical_inliers(search, *cloud, kept, options.outlier_k, options.outlier_deviations,
-                            keep_sparse);
+        statistical_inliers(search, *cloud, kept, options.outlier_k, options.outlier_deviations);
     const std::size_t removed = kept.size() - inliers.size();
     kept = inliers;
     const double share = static_cast<double>(removed) / static_cast<double>(points.size());
@@ -360,6 +292,82 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
     if (share < kNoticeable || share > kLarge) break;
   }
   return kept;
+}
+
+namespace {
+
+// A flagged point stays when it continues the sampling of its nearest neighbour j that is kept,
+// only more sparsely: within kNearReach × m_j (j's mean distance to its neighbours), or within
+// kFarReach × m_j and kOffPlane × m_j of the plane through j's neighbourhood. A stray's nearest
+// kept point is the surface below it, and it lies off that surface's plane.
+constexpr double kNearReach = 1.0, kFarReach = 2.0, kOffPlane = 0.3;
+// A sparse part is kept from its edge inwards (its inner points may have only flagged
+// neighbours), for at most this many rounds; strays lie several spacings apart and never
+// continue one another.
+constexpr int kSparseRounds = 8;
+
+}  // namespace
+
+std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::vector<int>& inliers,
+                                   const DenoiseOptions& options) {
+  options.validate();
+  const int count = static_cast<int>(points.size());
+  const int k = options.outlier_k;
+  if (inliers.size() == points.size() || count <= k) return inliers;
+  const KdTree tree(points);
+  // A point's k nearest others, looked up once and only for the points the rule needs.
+  std::vector<std::vector<int>> neighbours(count);
+  std::vector<double> squared;
+  const auto neighbours_of = [&](int p) -> const std::vector<int>& {
+    if (neighbours[p].empty()) {
+      tree.k_nearest(points[p], k + 1, neighbours[p], squared);
+      neighbours[p].erase(neighbours[p].begin());  // the point itself
+    }
+    return neighbours[p];
+  };
+  // Spacing of the sampling a point belongs to: its own mean neighbour distance if it is kept,
+  // that of the point it continues if it is kept as sparse; NaN while it is flagged.
+  std::vector<double> spacing(count, std::numeric_limits<double>::quiet_NaN());
+  std::vector<char> kept(count, 0);
+  for (int i : inliers) kept[i] = 1;
+  const auto spacing_of = [&](int j) {
+    if (kept[j] && std::isnan(spacing[j])) {
+      double sum = 0.0;
+      for (int n : neighbours_of(j)) sum += (points[n] - points[j]).norm();
+      spacing[j] = sum / k;
+    }
+    return spacing[j];
+  };
+  const auto continues = [&](int p, int j, double reach) {
+    const double gap = (points[p] - points[j]).norm();
+    if (gap <= kNearReach * reach) return true;
+    if (gap > kFarReach * reach) return false;
+    std::vector<int> around = neighbours_of(j);
+    around.push_back(j);
+    const internal::PrincipalAxes plane = internal::principal_axes(points, around);
+    return plane.valid &&
+           std::abs((points[p] - plane.centroid).dot(plane.normal())) <= kOffPlane * reach;
+  };
+  std::vector<int> result = inliers;
+  for (int round = 0; round < kSparseRounds; ++round) {
+    bool grown = false;
+    for (int p = 0; p < count; ++p) {
+      if (kept[p] || !std::isnan(spacing[p])) continue;
+      for (int j : neighbours_of(p)) {
+        const double reach = spacing_of(j);
+        if (std::isnan(reach)) continue;  // flagged too: the next nearest
+        if (continues(p, j, reach)) {
+          spacing[p] = reach;
+          result.push_back(p);
+          grown = true;
+        }
+        break;  // only the nearest point that is not flagged counts
+      }
+    }
+    if (!grown) break;
+  }
+  std::sort(result.begin(), result.end());
+  return result;
 }
 
 namespace {

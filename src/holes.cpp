@@ -1,6 +1,5 @@
 #include "vmas/holes.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 #include <utility>
 
 #include "disjoint_sets.hpp"
+#include "principal_axes.hpp"
 #include "vmas/kdtree.hpp"
 
 namespace vmas {
@@ -42,15 +42,10 @@ bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, i
     const Vec3 d = points[q] - points[p];
     angles.push_back(std::atan2(d.dot(v), d.dot(u)));
   }
-
   if (angles.size() < 2) return false;
-  Vec3 centroid = Vec3::Zero();
-  for (int q : around) centroid += points[q];
-  centroid /= static_cast<double>(around.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int q : around) covariance += (points[q] - centroid) * (points[q] - centroid).transpose();
-  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
-  if (spread[1] < kMinWidthRatio * spread[2]) return false;
+  const internal::PrincipalAxes fit = internal::principal_axes(points, around);
+  const Vec3& spread = fit.spread;
+  if (!fit.valid || spread[1] < kMinWidthRatio * spread[2]) return false;
   if (spread[0] > kMaxThicknessRatio * spread[1]) return false;
   std::sort(angles.begin(), angles.end());
   double widest = angles.front() + 2.0 * M_PI - angles.back();
@@ -64,17 +59,17 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
   const int count = static_cast<int>(points.size());
   if (count <= kNeighbours || normals.size() != points.size()) return {};
   const KdTree tree(points);
-  std::vector<std::vector<int>> around(count);
   std::vector<double> reach(count, 0.0);  // distance to the farthest of the neighbours
   std::vector<char> rim(count, 0);
 #pragma omp parallel
   {
+    std::vector<int> around;
     std::vector<double> squared, angles;
 #pragma omp for schedule(static)
     for (int p = 0; p < count; ++p) {
-      tree.k_nearest(points[p], kNeighbours + 1, around[p], squared);
+      tree.k_nearest(points[p], kNeighbours + 1, around, squared);
       reach[p] = std::sqrt(squared.back());
-      rim[p] = on_rim(points, normals, p, around[p], angles);
+      rim[p] = on_rim(points, normals, p, around, angles);
     }
   }
   std::vector<int> rim_points;

@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "disjoint_sets.hpp"
+#include "principal_axes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -369,14 +370,9 @@ void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& no
     for (std::ptrdiff_t w = 0; w < static_cast<std::ptrdiff_t>(wanted.size()); ++w) {
       const int i = wanted[w];
       tree.k_nearest(points[i], options.k + 1, row, squared);
-      Vec3 mean = Vec3::Zero();
-      for (int j : row) mean += points[j];
-      mean /= static_cast<double>(row.size());
-      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-      for (int j : row) covariance += (points[j] - mean) * (points[j] - mean).transpose();
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-      Vec3 normal = eigen.eigenvectors().col(0);
-      if (eigen.info() != Eigen::Success || !normal.allFinite()) normal = points[i] - centroid;
+      const internal::PrincipalAxes fit = internal::principal_axes(points, row);
+      Vec3 normal = fit.normal();
+      if (!fit.valid || !normal.allFinite()) normal = points[i] - centroid;
       // The sign the neighbours' own normals agree on (away from the centroid if none has one).
       double vote = 0.0;
       for (int j : row)

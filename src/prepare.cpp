@@ -108,7 +108,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   // stop shrinking balls and pull clusters; a mesh's vertices are never strays.
   bool noise_measured = false;
   if (cloud && denoise && options.remove_outliers) {
-    std::vector<int> inliers = inlier_indices(surface.points, options.noise, false);
+    std::vector<int> inliers = inlier_indices(surface.points, options.noise);
     // The strays go with the tails of a scan's noise, which its smoothing is better without
     // (bear, dove, chair at σ = 0.5-1 %: ε 0.3-13 points lower); a clean sampling keeps its
     // sparse parts. The noise is measured without the strays either way.
@@ -119,7 +119,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
       report.noise = estimate_noise(strict);
       noise_measured = true;
       if (!is_noisy(report.noise, options.noise))
-        inliers = inlier_indices(surface.points, options.noise, true);
+        inliers = with_sparse_parts(surface.points, inliers, options.noise);
     }
     report.outliers = surface.points.size() - inliers.size();
     std::vector<int> position(surface.points.size(), -1);

@@ -95,21 +95,26 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
 // into rows at k = 6 (vessel's vertices: 87 pieces).
 constexpr int kBridgeK = 16;
 
-// Joins the pieces of the graph `edges` by the shortest of the `wider` neighbour pairs that
-// connect two pieces (Kruskal over those pairs, after the graph's own edges): the minimum
-// spanning forest's bridges. A connected graph gains nothing.
-void add_bridges(const std::vector<std::vector<std::pair<double, int>>>& wider,
+// Joins the pieces of the graph `edges` over `points` by the shortest of the pairs among each
+// point's kBridgeK nearest that connect two pieces (Kruskal over those pairs, after the graph's
+// own edges): the minimum spanning forest's bridges. A connected graph gains nothing and costs
+// one pass over its edges.
+void add_bridges(const std::vector<Vec3>& points, const KdTree& tree,
                  std::vector<std::pair<int, int>>& edges) {
-  const int n = static_cast<int>(wider.size());
+  const int n = static_cast<int>(points.size());
   internal::DisjointSets pieces(n);
   for (const auto& [a, b] : edges) pieces.unite(a, b);
   if (pieces.sets() == 1) return;
   std::vector<std::tuple<double, int, int>> candidates;
-  for (int v = 0; v < n; ++v)
-    for (const auto& [squared, other] : wider[v])
-      if (pieces.find(v) != pieces.find(other)) candidates.emplace_back(squared, v, other);
+  std::vector<int> nearest;
+  std::vector<double> squared;
+  for (int v = 0; v < n; ++v) {
+    tree.k_nearest(points[v], kBridgeK + 1, nearest, squared);
+    for (std::size_t i = 1; i < nearest.size(); ++i)
+      if (pieces.find(v) != pieces.find(nearest[i])) candidates.emplace_back(squared[i], v, nearest[i]);
+  }
   std::sort(candidates.begin(), candidates.end());
-  for (const auto& [squared, a, b] : candidates)
+  for (const auto& [length, a, b] : candidates)
     if (pieces.unite(a, b)) edges.emplace_back(a, b);
 }
 
@@ -128,7 +133,6 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
   // Support area (Zhao et al. 2023): squared mean distance to the K nearest neighbours.
   const int area_k = std::max(6, options.k);
   std::vector<std::vector<int>> knn(n);
-  std::vector<std::vector<std::pair<double, int>>> wider(n);  // (squared distance, neighbour)
   shape.area.assign(n, 0.0);
 #pragma omp parallel
   {
@@ -136,16 +140,13 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
     std::vector<double> distances;
 #pragma omp for schedule(static)
     for (int v = 0; v < n; ++v) {
-      tree.k_nearest(shape.points[v], std::max(area_k, kBridgeK) + 1, indices, distances);
-      const std::size_t area_count = std::min<std::size_t>(area_k + 1, distances.size());
+      tree.k_nearest(shape.points[v], area_k + 1, indices, distances);
       double mean = 0.0;
-      for (std::size_t i = 1; i < area_count; ++i) mean += std::sqrt(distances[i]);
-      mean /= static_cast<double>(area_count - 1);
+      for (std::size_t i = 1; i < distances.size(); ++i) mean += std::sqrt(distances[i]);
+      mean /= static_cast<double>(distances.size() - 1);
       shape.area[v] = mean * mean;
       // The k nearest including v itself: the support of the diffused quadric (eq. 5).
       knn[v].assign(indices.begin(), indices.begin() + std::min<int>(options.k, indices.size()));
-      for (std::size_t i = 1; i < indices.size(); ++i)
-        wider[v].push_back({distances[i], indices[i]});
     }
   }
   shape.quadric.assign(n, Sqem{});
@@ -157,7 +158,7 @@ void build_cloud_attributes(const SurfaceInput& input, const ShapeOptions& optio
       if (j != v) edges.emplace_back(v, j);
     }
   }
-  add_bridges(wider, edges);
+  add_bridges(shape.points, tree, edges);
   set_neighbour_graph(shape, std::move(edges));
 }
 

@@ -56,7 +56,7 @@ TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
   // Strays that happen to fall near the sphere are no outliers; count the others.
   int far_strays = 0;
   for (int i = 10000; i < 10100; ++i) far_strays += std::abs(s.points[i].norm() - 1.0) > 0.1;
-  const std::vector<int> kept = inlier_indices(s.points, {}, true);
+  const std::vector<int> kept = with_sparse_parts(s.points, inlier_indices(s.points, {}), {});
   int surface_kept = 0, far_strays_kept = 0;
   for (int i : kept) {
     if (i < 10000)
@@ -72,7 +72,8 @@ TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
 // surface sampled more sparsely, not strays.
 TEST(DenoiseOutliers, CleanSparseSamplingsLoseNoPoint) {
   const auto expect_whole = [](const std::vector<Vec3>& points, const char* what) {
-    EXPECT_EQ(inlier_indices(points, {}, true).size(), points.size()) << what;
+    EXPECT_EQ(with_sparse_parts(points, inlier_indices(points, {}), {}).size(), points.size())
+        << what;
   };
   for (int count : {2000, 5000, 30000}) {
     expect_whole(test::sample_torus(1.0, 0.3, count, 7).points, "torus");

@@ -41,13 +41,17 @@ bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
 
 // Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
 // outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
-// mean), ascending. With `keep_sparse` (for clean samplings), a flagged point that continues the
-// sampling of its nearest unflagged neighbour (near it, or on its plane) stays: sparse parts are
-// not strays. Repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of the
-// points. A first pass removing more than 2 % has found uneven density: every point stays.
+// mean), ascending; repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of
+// the points. A first pass removing more than 2 % has found uneven density: every point stays.
 // Clouds too small for it keep every point.
-std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options,
-                                bool keep_sparse);
+std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);
+
+// `inliers` (from inlier_indices) and the points it left out that continue the sampling of their
+// nearest kept neighbour, near it or on its plane, ascending: for a clean sampling, whose sparse
+// parts (a random sampling's sparse tail, the rim of a regular grid, a thin wall) the
+// statistical rule takes for strays.
+std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::vector<int>& inliers,
+                                   const DenoiseOptions& options);
 
 // Projects every point onto the local quadric surface of PCL's MovingLeastSquares with support
 // `radius` (fitted on a voxel grid of radius / 6, at the grid sample nearest to the point), and
