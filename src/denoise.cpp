@@ -305,6 +305,10 @@ constexpr double kNearReach = 1.0, kFarReach = 2.0, kOffPlane = 0.3;
 // neighbours), for at most this many rounds; strays lie several spacings apart and never
 // continue one another.
 constexpr int kSparseRounds = 8;
+// In a clean sampling nearly every flagged point continues it (at least 97 % on 48 clean clouds
+// of 2 000-50 000 points); in one with scattered strays most do not (at most 28 % with 1 %
+// uniform strays), and the few that do are strays near the surface as often as sparse parts.
+constexpr double kScatteredShare = 0.5;
 
 }  // namespace
 
@@ -366,6 +370,10 @@ std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::v
     }
     if (!grown) break;
   }
+  const std::size_t flagged = points.size() - inliers.size();
+  const std::size_t continuing = result.size() - inliers.size();
+  if (static_cast<double>(flagged - continuing) > kScatteredShare * static_cast<double>(flagged))
+    return inliers;
   std::sort(result.begin(), result.end());
   return result;
 }

@@ -49,7 +49,8 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
 // `inliers` (from inlier_indices) and the points it left out that continue the sampling of their
 // nearest kept neighbour, near it or on its plane, ascending: for a clean sampling, whose sparse
 // parts (a random sampling's sparse tail, the rim of a regular grid, a thin wall) the
-// statistical rule takes for strays.
+// statistical rule takes for strays. When most of the points left out do not continue it, they
+// are a scatter of strays, and `inliers` is returned as it is.
 std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::vector<int>& inliers,
                                    const DenoiseOptions& options);
 
