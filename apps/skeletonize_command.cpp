@@ -80,6 +80,7 @@ struct InputSize {
 json summarize(const Job& job, const InputSize& input, const Result& result, double read_seconds,
                double write_seconds, const EvalResult* eval) {
   const PrepareReport& prepared = result.prepare;
+  const SmoothingCheck& check = result.smoothing_check;
   const double diagonal = prepared.diagonal * prepared.frame.scale;
   const std::string normals = input.faces > 0              ? "from faces"
                               : prepared.normals_estimated ? "estimated"
@@ -110,7 +111,12 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                     {"smoothed", prepared.smoothed()},
                     {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
                     {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
-                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)}}},
+                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
+                    {"smoothing_check",
+                     {{"made", check.made},
+                      {"smoothing_kept", check.smoothing_kept},
+                      {"smoothed_reach_percent", percent_of(check.smoothed_reach, 1.0)},
+                      {"unsmoothed_reach_percent", percent_of(check.unsmoothed_reach, 1.0)}}}}},
                   {"diagonal", diagonal},
                   {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
                   {"holes",
@@ -153,6 +159,7 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
                         {"split", rounded(t.split)},
                         {"refine", rounded(t.refine)},
                         {"connectivity", rounded(t.connectivity)},
+                        {"smoothing_check", rounded(t.smoothing_check)},
                         {"write", rounded(write_seconds)},
                         {"total", rounded(read_seconds + t.total + write_seconds)}};
   return summary;
@@ -191,8 +198,15 @@ void print_summary(const json& s, const Settings& settings) {
                       ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
                             " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
                       : "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() +
-                            " %, left ~" + noise["residual_percent"].dump() + " %)")
-              << "\n";
+                            " %, left ~" + noise["residual_percent"].dump() + " %)");
+  const json& check = noise["smoothing_check"];
+  if (check["made"].get<bool>())
+    std::cout << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "
+                                                      : ": smoothed, the skeleton reached ")
+              << check["smoothed_reach_percent"] << " % past the points as they are, without "
+              << (check["smoothing_kept"].get<bool>() ? "smoothing it would reach " : "")
+              << check["unsmoothed_reach_percent"] << " %";
+  std::cout << "\n";
   const std::string normals = s["normals"];
   if (normals == "estimated" || normals == "re-oriented")
     std::cout << "normals: "
@@ -229,9 +243,11 @@ void print_summary(const json& s, const Settings& settings) {
   const json& t = s["seconds"];
   std::cout << "time (s): total " << text_of(t["total"], "%.2f");
   const char* parts[] = {"read",       "clean", "prepare", "shape",        "partition", "update",
-                         "projection", "split", "refine",  "connectivity", "write"};
+                         "projection", "split", "refine",  "connectivity", "smoothing_check",
+                         "write"};
   for (const char* part : parts)
-    std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
+    if (part != std::string("smoothing_check") || t[part].get<double>() > 0.0)
+      std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
   std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";
 }
 

@@ -115,8 +115,11 @@ TEST_F(Cli, VersionAndJsonSummaryWithEval) {
   EXPECT_LT(summary["eval"]["hausdorff_percent"].get<double>(), 10.0);
   // Timings are reported, not judged here (scripts/bench measures them): every stage is listed.
   for (const char* stage : {"read", "clean", "prepare", "shape", "partition", "update",
-                            "projection", "split", "connectivity", "write", "total"})
+                            "projection", "split", "connectivity", "smoothing_check", "write",
+                            "total"})
     EXPECT_TRUE(summary["seconds"].contains(stage)) << stage;
+  // A clean mesh is not smoothed, so its smoothing is not checked.
+  EXPECT_FALSE(summary["noise"]["smoothing_check"]["made"].get<bool>());
 }
 
 TEST_F(Cli, WarningsAreInTheJsonToo) {

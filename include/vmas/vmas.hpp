@@ -56,7 +56,17 @@ struct Warning {
 
 struct Timings {  // seconds
   double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
-         split = 0.0, refine = 0.0, connectivity = 0.0, total = 0.0;
+         split = 0.0, refine = 0.0, connectivity = 0.0, smoothing_check = 0.0, total = 0.0;
+};
+
+// When the noise of a cloud was smoothed and the skeleton came out far from the data
+// (large-error), the points were skeletonized a second time as they are, and both skeletons measured against them:
+// the one reaching less far past them is the result (lengths: fraction of the diagonal).
+struct SmoothingCheck {
+  bool made = false;
+  bool smoothing_kept = true;     // false: the result is that of the unsmoothed points
+  double smoothed_reach = 0.0;    // medial -> data maximum of the smoothed points' skeleton
+  double unsmoothed_reach = 0.0;  // and of the unsmoothed points' skeleton
 };
 
 struct Result {
@@ -74,6 +84,7 @@ struct Result {
   int skeleton_components = 0;  // of the medial mesh
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
                                 // data (the refinement's measure), fraction of its diagonal
+  SmoothingCheck smoothing_check;
   Timings seconds;
   std::vector<Warning> warnings;
 };
