@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <boost/program_options/errors.hpp>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "commands.hpp"
 #include "vmas/error.hpp"
@@ -37,21 +40,52 @@ void set_threads(int threads) {
 #endif
 }
 
-int run_command(const std::string& name, int (*command)(int, const char* const*), int argc,
-                const char* const* argv) {
+namespace {
+
+// The one-line message (after "vmas NAME: ") and the exit code of an error out of a command.
+std::pair<std::string, int> describe(const std::string& name, const std::exception_ptr& error) {
   try {
-    return command(argc, argv);
+    std::rethrow_exception(error);
   } catch (const boost::program_options::error& e) {
-    std::cerr << "vmas " << name << ": " << e.what() << " (try: vmas " << name << " --help)\n";
-    return 2;
+    return {std::string(e.what()) + " (try: vmas " + name + " --help)", 2};
   } catch (const InvalidOption& e) {
     // Named as typed on the command line: "--lambda must be ...".
-    std::cerr << "vmas " << name << ": " << (e.option().empty() ? "" : "--") << e.what() << "\n";
-    return 2;
+    return {(e.option().empty() ? "" : "--") + std::string(e.what()), 2};
   } catch (const std::exception& e) {
-    std::cerr << "vmas " << name << ": " << e.what() << "\n";
-    return 1;
+    return {e.what(), 1};
+  } catch (...) {
+    return {"unknown error", 1};
   }
+}
+
+bool asks_for_json(int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--json") return true;
+  return false;
+}
+
+}  // namespace
+
+int run_command(const std::string& name, int (*command)(int, const char* const*), int argc,
+                const char* const* argv) {
+  std::exception_ptr error;
+  bool json_printed = false;
+  try {
+    return command(argc, argv);
+  } catch (const JsonPrinted& printed) {
+    error = printed.error;
+    json_printed = true;
+  } catch (...) {
+    error = std::current_exception();
+  }
+  const auto [message, exit_code] = describe(name, error);
+  std::cerr << "vmas " << name << ": " << message << "\n";
+  // --json promises one JSON object, also when the command line is wrong.
+  if (!json_printed && asks_for_json(argc, argv))
+    std::cout << nlohmann::json{{"vmas", version()}, {"error", message}}.dump(
+                     -1, ' ', false, nlohmann::json::error_handler_t::replace)
+              << std::endl;
+  return exit_code;
 }
 
 // Two settings that libraries read once, when the process starts, so that they have to be in

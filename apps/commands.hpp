@@ -2,6 +2,7 @@
 // Subcommands of the `vmas` tool. Each parses its own options and returns the exit code:
 // 0 success, 1 run error, 2 usage error. Errors escape as exceptions; run_command prints them.
 #include <boost/program_options.hpp>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,12 @@ void set_threads(int threads);
 void restart_with_process_settings(char** argv);
 
 // Runs a subcommand (`name` as typed after vmas) and maps what escapes it to a one-line message
-// and an exit code: 2 for a usage error, 1 for any other.
+// and an exit code: 2 for a usage error, 1 for any other. With --json among the arguments it
+// also prints {"vmas", "error"} on stdout, unless the command has printed the failure's JSON
+// itself and says so by throwing JsonPrinted.
+struct JsonPrinted {
+  std::exception_ptr error;  // what failed
+};
 int run_command(const std::string& name, int (*command)(int, const char* const*), int argc,
                 const char* const* argv);
 

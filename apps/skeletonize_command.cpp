@@ -436,11 +436,11 @@ int skeletonize_command(int argc, const char* const* argv) {
       summary = run_one(job, settings, progress);
     } catch (const std::exception& e) {
       // --json promises one JSON object, also on failure; the message goes to stderr as well.
-      if (settings.json)
-        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
-                         .dump(-1, ' ', false, json::error_handler_t::replace)
-                  << "\n";
-      throw;
+      if (!settings.json) throw;
+      std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
+                       .dump(-1, ' ', false, json::error_handler_t::replace)
+                << "\n";
+      throw JsonPrinted{std::current_exception()};
     }
     if (settings.json)
       std::cout << summary.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";

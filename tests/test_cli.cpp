@@ -248,6 +248,26 @@ TEST_F(Cli, JsonFailureIsJsonToo) {
   expect_one_line_error(r, "missing.off");
 }
 
+// ... and when the command line is wrong, in every command that has --json.
+TEST_F(Cli, JsonUsageErrorIsJsonToo) {
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  for (const std::string& arguments :
+       {"skeletonize " + path("capsule.off") + " --json --spheres 0 -o " + path("o.ply"),
+        "skeletonize " + path("capsule.off") + " --json --lambada 2 -o " + path("o.ply"),
+        "eval " + path("capsule.off") + " --json"}) {
+    const Result r = run(arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments;
+    const auto failure = nlohmann::json::parse(r.out);  // one object, nothing else
+    EXPECT_EQ(failure["vmas"], version()) << arguments;
+    EXPECT_FALSE(failure["error"].get<std::string>().empty()) << arguments;
+    EXPECT_FALSE(fs::exists(path("o.ply")));
+  }
+  const Result r = run("eval " + path("missing.off") + " " + path("capsule.off") + " --json");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(nlohmann::json::parse(r.out)["error"].get<std::string>().find("missing.off"),
+            std::string::npos);
+}
+
 // --labels on a device or FIFO is refused before the run; neither is replaced.
 TEST_F(Cli, SpecialFilesAreNeverReplaced) {
   write_surface(path("a.ply"), test::capsule(0.2, 1.0, 8, 24));

@@ -62,6 +62,69 @@ bool shape_layout_agrees() {
          std::isfinite(total) && total > 0.0 && std::abs(shape.total_area - 6.0) < 1e-12;
 }
 
+// A copy of `cloud` as another PCL point type (xyz only; normals, colour and intensity left as
+// the type's default, NaN normals for the types that have them).
+template <typename PointT>
+pcl::PointCloud<PointT> as_type(const pcl::PointCloud<pcl::PointXYZ>& cloud) {
+  pcl::PointCloud<PointT> copy(cloud.width, cloud.height);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    copy[i].x = cloud[i].x;
+    copy[i].y = cloud[i].y;
+    copy[i].z = cloud[i].z;
+    if constexpr (pcl::traits::has_normal_v<PointT>)
+      copy[i].normal_x = copy[i].normal_y = copy[i].normal_z =
+          std::numeric_limits<float>::quiet_NaN();
+  }
+  return copy;
+}
+
+// The point types PCL users hold, shared pointers and an index subset: the same points give the
+// same skeleton whatever the type, and the labels come back in PCL's forms.
+std::string check_point_types(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                              const vmas::Options& options, const vmas::Result& reference) {
+  const auto same = [&](const vmas::Result& r) {
+    if (r.labels.size() != reference.labels.size()) return false;
+    for (std::size_t i = 0; i < r.medial_mesh.spheres.size(); ++i)
+      if (r.medial_mesh.spheres[i].center != reference.medial_mesh.spheres[i].center) return false;
+    return r.medial_mesh.spheres.size() == reference.medial_mesh.spheres.size();
+  };
+  if (!same(vmas::skeletonize(as_type<pcl::PointXYZRGB>(cloud), options)))
+    return "PointXYZRGB differs from PointXYZ";
+  if (!same(vmas::skeletonize(as_type<pcl::PointXYZI>(cloud), options)))
+    return "PointXYZI differs from PointXYZ";
+  const pcl::PointCloud<pcl::PointXYZ>::ConstPtr shared = cloud.makeShared();
+  if (!same(vmas::skeletonize(shared, options))) return "ConstPtr differs from the cloud";
+  // NaN normals are estimated: every finite point keeps its place and gets a label.
+  for (const vmas::Result& r : {vmas::skeletonize(as_type<pcl::PointNormal>(cloud), options),
+                                vmas::skeletonize(as_type<pcl::PointXYZRGBNormal>(cloud), options)}) {
+    if (r.medial_mesh.spheres.size() != 40) return "a type with NaN normals: not 40 spheres";
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      if (std::isfinite(cloud[i].x) && r.labels[i] < 0 && reference.labels[i] >= 0)
+        return "a point with a NaN normal lost its label";
+  }
+  pcl::Indices finite;
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (std::isfinite(cloud[i].x) && cloud[i].x < 0.5f) finite.push_back(static_cast<int>(i));
+  const vmas::Result part = vmas::skeletonize(shared, finite, options);
+  if (part.labels.size() != finite.size()) return "labels of an index subset: wrong count";
+  std::size_t clustered = 0;
+  for (const pcl::PointIndices& c : vmas::clusters_of(part, &finite))
+    for (pcl::index_t i : c.indices) {
+      if (!(cloud[static_cast<std::size_t>(i)].x < 0.5f)) return "clusters_of: index outside the subset";
+      ++clustered;
+    }
+  std::size_t labelled = 0;
+  for (int label : part.labels) labelled += label >= 0;
+  if (clustered != labelled) return "clusters_of does not hold every labelled point";
+  const pcl::PointCloud<pcl::PointXYZL> whole = vmas::labelled_cloud(cloud, reference);
+  if (whole.width != cloud.width || whole.height != cloud.height)
+    return "labelled_cloud lost the organised grid";
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if ((reference.labels[i] < 0) != (whole[i].label == vmas::kUnlabelled))
+      return "labelled_cloud: labels differ";
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,6 +155,8 @@ int main(int argc, char** argv) {
       display.mesh.polygons.size() !=
           result.medial_mesh.faces.size() + result.medial_mesh.edges.size())
     return fail("to_pcl lost spheres or polygons");
+  const std::string types = check_point_types(cloud, options, result);
+  if (!types.empty()) return fail(types);
   std::cout << "ok: " << result.medial_mesh.spheres.size() << " spheres, "
             << result.medial_mesh.edges.size() << " edges, " << result.labels.size() << " labels ("
             << nan_points << " NaN points unlabelled), " << result.warnings.size() << " warnings\n";
