@@ -324,12 +324,12 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   options.validate();
   const ThreadCount threads(options.threads);
   const auto start = Clock::now();
-  const bool may_check = options.prepare.denoise == PrepareOptions::Denoise::Auto;
+  const bool may_check =
+      options.prepare.denoise == PrepareOptions::Denoise::Auto && !input.is_mesh();
   SurfaceInput unsmoothed_input;
   if (may_check) unsmoothed_input = input;
   Pass pass = run_pass(std::move(input), options, progress);
-  if (may_check && !pass.surface.is_mesh() && pass.result.prepare.smoothed() &&
-      pass.result.measured_error > kLargeError)
+  if (may_check && pass.result.prepare.smoothed() && pass.result.measured_error > kLargeError)
     check_smoothing(pass, seconds_since(start), std::move(unsmoothed_input), options, progress);
   Result result = std::move(pass.result);
   result.warnings = warnings_about(result);
