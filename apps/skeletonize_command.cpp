@@ -2,9 +2,13 @@
 // One input gives a full summary; several (or --output-dir) a line per file.
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -69,6 +73,8 @@ enum class ProgressStyle { None, Terminal, Log };
 struct Settings {
   Options options;
   bool json = false, eval = false, quiet = false;
+  std::string input_format;          // of INPUT `-`
+  std::string output_format = "ply";  // of `-o -` and --output-dir
 };
 
 // The run's summary as data: printed as JSON, or read by print_summary().
@@ -166,10 +172,10 @@ json summarize(const Job& job, const InputSize& input, const Result& result, dou
 }
 
 // The summary of a single run, for people.
-void print_summary(const json& s, const Settings& settings) {
+void print_summary(const json& s, const Settings& settings, std::ostream& out) {
   const json& noise = s["noise"];
   const json& cleaned = s["cleaned"];
-  std::cout << "input " << s["input"].get<std::string>() << ": " << s["points"] << " points, "
+  out << "input " << s["input"].get<std::string>() << ": " << s["points"] << " points, "
             << (s["faces"].get<int>() > 0 ? s["faces"].dump() + " faces"
                                           : std::string("point cloud"))
             << "\n";
@@ -177,21 +183,21 @@ void print_summary(const json& s, const Settings& settings) {
       cleaned["non_finite_points"].get<int>() + cleaned["duplicate_points"].get<int>() +
       cleaned["degenerate_faces"].get<int>() + cleaned["unused_vertices"].get<int>();
   if (removed > 0)
-    std::cout << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
+    out << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
               << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
               << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
   if (cleaned["missing_normals"].get<int>() > 0)
-    std::cout << "normals: " << cleaned["missing_normals"]
+    out << "normals: " << cleaned["missing_normals"]
               << " points without a valid normal in the file got an estimated one\n";
   const json& thinning = s["thinning"];
   if (thinning["applied"].get<bool>())
-    std::cout << "thinned: " << thinning["points"] << " points take part (one per voxel of "
+    out << "thinned: " << thinning["points"] << " points take part (one per voxel of "
               << thinning["voxel_percent"] << " % of the diagonal; --max-points "
               << settings.options.prepare.max_points << ")\n";
   if (s["outliers"].get<int>() > 0)
-    std::cout << "outliers: removed " << s["outliers"] << " points\n";
+    out << "outliers: removed " << s["outliers"] << " points\n";
   if (noise["measured"].get<bool>())
-    std::cout << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
+    out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
               << noise["spacing_percent"] << " %)"
               << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
                   : noise["mesh_smoothing_steps"].get<int>() > 0
@@ -201,30 +207,30 @@ void print_summary(const json& s, const Settings& settings) {
                             " %, left ~" + noise["residual_percent"].dump() + " %)");
   const json& check = noise["smoothing_check"];
   if (check["made"].get<bool>())
-    std::cout << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "
+    out << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "
                                                       : ": smoothed, the skeleton reached ")
               << check["smoothed_reach_percent"] << " % past the points as they are, without "
               << (check["smoothing_kept"].get<bool>() ? "smoothing it would reach " : "")
               << check["unsmoothed_reach_percent"] << " %";
-  std::cout << "\n";
+  out << "\n";
   const std::string normals = s["normals"];
   if (normals == "estimated" || normals == "re-oriented")
-    std::cout << "normals: "
+    out << "normals: "
               << (normals == "estimated" ? "estimated and oriented" : "given ones re-oriented")
               << " (k=" << settings.options.prepare.normals.k << ")\n";
   const Options& o = settings.options;
-  std::cout << "parameters: "
+  out << "parameters: "
             << (o.error > 0.0
                     ? "error=" + text_of(o.error)
                     : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
             << " lambda=" << o.run.lambda << " k=" << o.shape.k
             << " projection=" << (o.run.project ? "on" : "off") << "\n";
-  std::cout << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";
+  out << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";
   if (s["holes"]["count"].get<int>() > 0)
-    std::cout << "; " << s["holes"]["count"] << " hole(s), the widest "
+    out << "; " << s["holes"]["count"] << " hole(s), the widest "
               << s["holes"]["widest_percent"] << " % of the diagonal across";
-  std::cout << "\n";
-  std::cout << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, "
+  out << "\n";
+  out << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, "
             << s["medial_faces"] << " faces; " << s["iterations"] << " iterations"
             << (s["stopped_by_max_iterations"].get<bool>() ? " (stopped by --max-iterations)"
                 : s["converged"].get<bool>()               ? ""
@@ -232,23 +238,23 @@ void print_summary(const json& s, const Settings& settings) {
             << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
   const json& refine = s["refine"];
   if (refine["moves_tried"].get<int>() > 0)
-    std::cout << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
+    out << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
               << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
               << refine["error_after_percent"] << " %\n";
   if (s.contains("eval"))
-    std::cout << "error: epsilon " << s["eval"]["hausdorff_percent"]
+    out << "error: epsilon " << s["eval"]["hausdorff_percent"]
               << " % of the diagonal (surface -> medial "
               << s["eval"]["surface_to_medial_max_percent"] << " %, medial -> surface "
               << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
   const json& t = s["seconds"];
-  std::cout << "time (s): total " << text_of(t["total"], "%.2f");
+  out << "time (s): total " << text_of(t["total"], "%.2f");
   const char* parts[] = {"read",       "clean", "prepare", "shape",        "partition", "update",
                          "projection", "split", "refine",  "connectivity", "smoothing_check",
                          "write"};
   for (const char* part : parts)
     if (part != std::string("smoothing_check") || t[part].get<double>() > 0.0)
-      std::cout << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
-  std::cout << "\nwrote " << s["output"].get<std::string>() << "\n";
+      out << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
+  out << "\nwrote " << s["output"].get<std::string>() << "\n";
 }
 
 // What a progress report says, for one line.
@@ -299,12 +305,69 @@ ProgressCallback stderr_progress(const std::string& input, ProgressStyle style) 
   };
 }
 
+// INPUT `-`: standard input copied to a temporary file that has the extension the readers go
+// by, so that they bound their work by what it holds as for any file; removed when done.
+class StdinCopy {
+ public:
+  explicit StdinCopy(const std::string& extension) {
+    const char* folder = std::getenv("TMPDIR");
+    std::string name = std::string(folder && *folder ? folder : "/tmp") + "/vmas-stdin-XXXXXX." +
+                       extension;
+    const int file = mkstemps(name.data(), static_cast<int>(extension.size() + 1));
+    if (file < 0)
+      throw IoError("standard input: cannot create a temporary file in " + name + ": " +
+                    std::strerror(errno));
+    path_ = name;
+    std::vector<char> buffer(1 << 16);
+    for (;;) {
+      const ssize_t got = read(STDIN_FILENO, buffer.data(), buffer.size());
+      if (got == 0) break;
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) fail(file, "cannot read it");
+      for (ssize_t done = 0; done < got;) {
+        const ssize_t put = write(file, buffer.data() + done, static_cast<std::size_t>(got - done));
+        if (put < 0 && errno == EINTR) continue;
+        if (put < 0) fail(file, "cannot copy it to " + path_);
+        done += put;
+      }
+    }
+    if (close(file) != 0) fail(-1, "cannot copy it to " + path_);
+  }
+  ~StdinCopy() { std::remove(path_.c_str()); }
+  StdinCopy(const StdinCopy&) = delete;
+  StdinCopy& operator=(const StdinCopy&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  [[noreturn]] void fail(int file, const std::string& what) {
+    const std::string reason = std::strerror(errno);
+    if (file >= 0) close(file);
+    std::remove(path_.c_str());
+    throw IoError("standard input: " + what + " (" + reason + ")");
+  }
+  std::string path_;
+};
+
+// Reads `job.input` (standard input for `-`, in `input_format`); errors name it as given.
+SurfaceInput read_input(const Job& job, const std::string& input_format) {
+  if (job.input != "-") return read_surface_as_stored(job.input);
+  const StdinCopy copy(input_format);
+  try {
+    return read_surface_as_stored(copy.path());
+  } catch (const IoError& e) {
+    std::string message = e.what();
+    for (std::size_t at; (at = message.find(copy.path())) != std::string::npos;)
+      message.replace(at, copy.path().size(), "standard input");
+    throw IoError(message);
+  }
+}
+
 // Reads, skeletonizes and writes one input; returns its summary. Errors about the data name
-// the file.
+// the file. An output `-` is standard output, in `settings.output_format`.
 json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   const bool show_progress = progress == ProgressStyle::Terminal;
   const auto start = Clock::now();
-  SurfaceInput surface = read_surface_as_stored(job.input);
+  SurfaceInput surface = read_input(job, settings.input_format);
   const double read_seconds = seconds_since(start);
   const InputSize size{surface.points.size(), surface.faces.size()};
   // The metric compares with the cleaned input; without it the run may consume the surface.
@@ -323,9 +386,17 @@ json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   }
   if (show_progress) std::fprintf(stderr, "\n");
   const auto write_start = Clock::now();
-  std::vector<OutputFile> files{{job.output, medial_mesh_file(job.output, result.medial_mesh)}};
+  std::vector<OutputFile> files;
+  if (job.output != "-") files.push_back({job.output, medial_mesh_file(job.output, result.medial_mesh)});
   if (!job.labels.empty()) files.push_back({job.labels, labels_file(result.labels)});
   write_files_atomically(files);
+  if (job.output == "-") {
+    const std::string bytes =
+        medial_mesh_file("standard output." + settings.output_format, result.medial_mesh);
+    if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
+        std::fflush(stdout) != 0)
+      throw IoError(std::string("standard output: cannot write (") + std::strerror(errno) + ")");
+  }
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
@@ -382,9 +453,13 @@ int skeletonize_command(int argc, const char* const* argv) {
   // clang-format off
   visible.add_options()
       ("help,h", "print this help")
-      ("output,o", po::value(&output), "medial mesh to write (.ply or .ma), for one INPUT")
+      ("output,o", po::value(&output),
+       "medial mesh to write (.ply or .ma), for one INPUT; - for standard output (the summary "
+       "then goes to standard error)")
       ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (created if missing)")
-      ("format", po::value(&format)->default_value("ply"), "with --output-dir: ply or ma")
+      ("format", po::value(&format)->default_value("ply"), "with --output-dir or -o -: ply or ma")
+      ("input-format", po::value(&settings.input_format),
+       "with INPUT - (standard input): its format, as a file extension (xyz, ply, off, obj, pcd)")
       ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
       ("labels", po::value(&labels_path),
        "also write the sphere of every point of the file, one per line (-1: point dropped as "
@@ -423,29 +498,44 @@ int skeletonize_command(int argc, const char* const* argv) {
   settings.eval = vm.count("eval") > 0;
   settings.quiet = vm.count("quiet") > 0;
 
+  settings.output_format = format;
+  const bool from_stdin = std::find(inputs.begin(), inputs.end(), "-") != inputs.end();
+  if (from_stdin && batch) throw po::error("INPUT - (standard input) takes one INPUT");
+  if (from_stdin && settings.input_format.empty())
+    throw po::error("INPUT - (standard input) needs --input-format");
+  if (!from_stdin && !settings.input_format.empty())
+    throw po::error("--input-format is for INPUT - (standard input)");
+  if (labels_path == "-") throw po::error("--labels needs a file (- is not supported)");
+
   if (!batch) {
-    check_output_option(output, check_medial_mesh_output);
+    const bool to_stdout = output == "-";
+    if (to_stdout && format != "ply" && format != "ma")
+      throw InvalidOption("--format must be ply or ma (got '" + format + "')");
+    if (!to_stdout) check_output_option(output, check_medial_mesh_output);
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
-    check_distinct_files_option({inputs[0], inputs_list}, {output, labels_path});
+    check_distinct_files_option({from_stdin ? "" : inputs[0], inputs_list},
+                                {to_stdout ? "" : output, labels_path});
     const Job job{inputs[0], output, labels_path};
     const ProgressStyle progress = settings.quiet                ? ProgressStyle::None
                                    : isatty(fileno(stderr)) ? ProgressStyle::Terminal
                                                             : ProgressStyle::Log;
+    // With the skeleton on standard output, the summary goes to standard error.
+    std::ostream& report = to_stdout ? std::cerr : std::cout;
     json summary;
     try {
       summary = run_one(job, settings, progress);
     } catch (const std::exception& e) {
       // --json promises one JSON object, also on failure; the message goes to stderr as well.
       if (!settings.json) throw;
-      std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
-                       .dump(-1, ' ', false, json::error_handler_t::replace)
-                << "\n";
+      report << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
+                    .dump(-1, ' ', false, json::error_handler_t::replace)
+             << "\n";
       throw JsonPrinted{std::current_exception()};
     }
     if (settings.json)
-      std::cout << summary.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
+      report << summary.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
     else if (!settings.quiet)
-      print_summary(summary, settings);
+      print_summary(summary, settings, report);
     return 0;
   }
 

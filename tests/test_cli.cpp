@@ -268,6 +268,30 @@ TEST_F(Cli, JsonUsageErrorIsJsonToo) {
             std::string::npos);
 }
 
+// `-` reads standard input (in --input-format) and writes the skeleton to standard output, the
+// same bytes as through files; the summary then goes to standard error.
+TEST_F(Cli, StandardInputAndOutput) {
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  ASSERT_EQ(run("skeletonize " + path("capsule.off") + " -n 4 -q -o " + path("file.ply")).exit_code,
+            0);
+  const Result piped =
+      run("skeletonize - --input-format off -n 4 --json -o - < " + path("capsule.off"));
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.out, read_text(path("file.ply")));
+  EXPECT_NE(piped.err.find("\"output\":\"-\""), std::string::npos) << piped.err;
+  const Result ma = run("skeletonize - --input-format off -n 4 -q -o - --format ma < " +
+                        path("capsule.off"));
+  EXPECT_EQ(ma.out.rfind("4 ", 0), 0u) << ma.out;  // "nv ne nf"
+  // Errors name standard input; without --input-format it is a usage error.
+  write("bad.ply", "not a ply\n");
+  const Result bad = run("skeletonize - --input-format ply -n 4 -o " + path("o.ply") + " < " +
+                         path("bad.ply"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("standard input"), std::string::npos) << bad.err;
+  EXPECT_EQ(run("skeletonize - -n 4 -o " + path("o.ply") + " < " + path("bad.ply")).exit_code, 2);
+  EXPECT_FALSE(fs::exists(path("o.ply")));
+}
+
 // --labels on a device or FIFO is refused before the run; neither is replaced.
 TEST_F(Cli, SpecialFilesAreNeverReplaced) {
   write_surface(path("a.ply"), test::capsule(0.2, 1.0, 8, 24));
