@@ -41,6 +41,7 @@ const char* kDescription =
     "usage: vmas skeletonize INPUT -o OUTPUT [--spheres N | --error E] [options]\n"
     "       vmas skeletonize INPUT... --output-dir DIR [--format ply|ma] [options]\n"
     "       vmas skeletonize --inputs LIST --output-dir DIR [options]\n"
+    "       vmas skeletonize - --input-format xyz -o - [--format ply|ma] [options]\n"
     "\n"
     "Computes a medial mesh (spheres, edges, triangles) of INPUT, a triangle mesh or point\n"
     "cloud (.off .ply .obj .xyz .txt .pcd), by variational medial axis sampling. OUTPUT is a\n"
