@@ -74,8 +74,8 @@ enum class ProgressStyle { None, Terminal, Log };
 struct Settings {
   Options options;
   bool json = false, eval = false, quiet = false;
-  std::string input_format;          // of INPUT `-`
-  std::string output_format = "ply";  // of `-o -` and --output-dir
+  std::string input_format;           // of INPUT `-`
+  std::string output_format = "ply";  // of `-o -` and --output-dir: ply or ma
 };
 
 // The run's summary as data: printed as JSON, or read by print_summary().
@@ -177,81 +177,77 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
   const json& noise = s["noise"];
   const json& cleaned = s["cleaned"];
   out << "input " << s["input"].get<std::string>() << ": " << s["points"] << " points, "
-            << (s["faces"].get<int>() > 0 ? s["faces"].dump() + " faces"
-                                          : std::string("point cloud"))
-            << "\n";
+      << (s["faces"].get<int>() > 0 ? s["faces"].dump() + " faces" : std::string("point cloud"))
+      << "\n";
   const int removed =
       cleaned["non_finite_points"].get<int>() + cleaned["duplicate_points"].get<int>() +
       cleaned["degenerate_faces"].get<int>() + cleaned["unused_vertices"].get<int>();
   if (removed > 0)
     out << "cleaned: removed " << cleaned["non_finite_points"] << " non-finite points, "
-              << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
-              << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
+        << cleaned["duplicate_points"] << " duplicates, " << cleaned["degenerate_faces"]
+        << " degenerate faces, " << cleaned["unused_vertices"] << " unused vertices\n";
   if (cleaned["missing_normals"].get<int>() > 0)
     out << "normals: " << cleaned["missing_normals"]
-              << " points without a valid normal in the file got an estimated one\n";
+        << " points without a valid normal in the file got an estimated one\n";
   const json& thinning = s["thinning"];
   if (thinning["applied"].get<bool>())
     out << "thinned: " << thinning["points"] << " points take part (one per voxel of "
-              << thinning["voxel_percent"] << " % of the diagonal; --max-points "
-              << settings.options.prepare.max_points << ")\n";
-  if (s["outliers"].get<int>() > 0)
-    out << "outliers: removed " << s["outliers"] << " points\n";
+        << thinning["voxel_percent"] << " % of the diagonal; --max-points "
+        << settings.options.prepare.max_points << ")\n";
+  if (s["outliers"].get<int>() > 0) out << "outliers: removed " << s["outliers"] << " points\n";
   if (noise["measured"].get<bool>())
     out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
-              << noise["spacing_percent"] << " %)"
-              << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
-                  : noise["mesh_smoothing_steps"].get<int>() > 0
-                      ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
-                            " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
-                      : "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() +
-                            " %, left ~" + noise["residual_percent"].dump() + " %)");
+        << noise["spacing_percent"] << " %)"
+        << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
+            : noise["mesh_smoothing_steps"].get<int>() > 0
+                ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
+                      " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
+                : "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() + " %, left ~" +
+                      noise["residual_percent"].dump() + " %)");
   const json& check = noise["smoothing_check"];
   if (check["made"].get<bool>())
     out << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "
-                                                      : ": smoothed, the skeleton reached ")
-              << check["smoothed_reach_percent"] << " % past the points as they are, without "
-              << (check["smoothing_kept"].get<bool>() ? "smoothing it would reach " : "")
-              << check["unsmoothed_reach_percent"] << " %";
+                                                : ": smoothed, the skeleton reached ")
+        << check["smoothed_reach_percent"] << " % past the points as they are, without "
+        << (check["smoothing_kept"].get<bool>() ? "smoothing it would reach " : "")
+        << check["unsmoothed_reach_percent"] << " %";
   out << "\n";
   const std::string normals = s["normals"];
   if (normals == "estimated" || normals == "re-oriented")
     out << "normals: "
-              << (normals == "estimated" ? "estimated and oriented" : "given ones re-oriented")
-              << " (k=" << settings.options.prepare.normals.k << ")\n";
+        << (normals == "estimated" ? "estimated and oriented" : "given ones re-oriented")
+        << " (k=" << settings.options.prepare.normals.k << ")\n";
   const Options& o = settings.options;
   out << "parameters: "
-            << (o.error > 0.0
-                    ? "error=" + text_of(o.error)
-                    : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
-            << " lambda=" << o.run.lambda << " k=" << o.shape.k
-            << " projection=" << (o.run.project ? "on" : "off") << "\n";
+      << (o.error > 0.0 ? "error=" + text_of(o.error)
+                        : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
+      << " lambda=" << o.run.lambda << " k=" << o.shape.k
+      << " projection=" << (o.run.project ? "on" : "off") << "\n";
   out << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";
   if (s["holes"]["count"].get<int>() > 0)
-    out << "; " << s["holes"]["count"] << " hole(s), the widest "
-              << s["holes"]["widest_percent"] << " % of the diagonal across";
+    out << "; " << s["holes"]["count"] << " hole(s), the widest " << s["holes"]["widest_percent"]
+        << " % of the diagonal across";
   out << "\n";
-  out << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, "
-            << s["medial_faces"] << " faces; " << s["iterations"] << " iterations"
-            << (s["stopped_by_max_iterations"].get<bool>() ? " (stopped by --max-iterations)"
-                : s["converged"].get<bool>()               ? ""
-                                             : " (error still changing: stopped after settling)")
-            << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
+  out << "result: " << s["spheres"] << " spheres, " << s["edges"] << " edges, " << s["medial_faces"]
+      << " faces; " << s["iterations"] << " iterations"
+      << (s["stopped_by_max_iterations"].get<bool>() ? " (stopped by --max-iterations)"
+          : s["converged"].get<bool>()               ? ""
+                                       : " (error still changing: stopped after settling)")
+      << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
   const json& refine = s["refine"];
   if (refine["moves_tried"].get<int>() > 0)
     out << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
-              << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
-              << refine["error_after_percent"] << " %\n";
+        << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
+        << refine["error_after_percent"] << " %\n";
   if (s.contains("eval"))
     out << "error: epsilon " << s["eval"]["hausdorff_percent"]
-              << " % of the diagonal (surface -> medial "
-              << s["eval"]["surface_to_medial_max_percent"] << " %, medial -> surface "
-              << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
+        << " % of the diagonal (surface -> medial " << s["eval"]["surface_to_medial_max_percent"]
+        << " %, medial -> surface " << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
   const json& t = s["seconds"];
   out << "time (s): total " << text_of(t["total"], "%.2f");
-  const char* parts[] = {"read",       "clean", "prepare", "shape",        "partition", "update",
-                         "projection", "split", "refine",  "connectivity", "smoothing_check",
-                         "write"};
+  const char* parts[] = {"read",      "clean",        "prepare",         "shape",
+                         "partition", "update",       "projection",      "split",
+                         "refine",    "connectivity", "smoothing_check", "write"};
   for (const char* part : parts)
     if (part != std::string("smoothing_check") || t[part].get<double>() > 0.0)
       out << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
@@ -379,25 +375,27 @@ json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   }
   Result result;
   try {
-    result = skeletonize(std::move(surface), settings.options,
-                         stderr_progress(job.input, progress));
+    result =
+        skeletonize(std::move(surface), settings.options, stderr_progress(job.input, progress));
   } catch (const InvalidInput& e) {
     if (show_progress) std::fprintf(stderr, "\n");
     throw InvalidInput(job.input + ": " + e.what());
   }
   if (show_progress) std::fprintf(stderr, "\n");
   const auto write_start = Clock::now();
+  // What went to standard output cannot be taken back: the files land only after it did.
   std::vector<OutputFile> files;
-  if (job.output != "-") files.push_back({job.output, medial_mesh_file(job.output, result.medial_mesh)});
-  if (!job.labels.empty()) files.push_back({job.labels, labels_file(result.labels)});
-  write_files_atomically(files);
   if (job.output == "-") {
     const std::string bytes =
         medial_mesh_file("standard output." + settings.output_format, result.medial_mesh);
     if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
         std::fflush(stdout) != 0)
       throw IoError(std::string("standard output: cannot write (") + std::strerror(errno) + ")");
+  } else {
+    files.push_back({job.output, medial_mesh_file(job.output, result.medial_mesh)});
   }
+  if (!job.labels.empty()) files.push_back({job.labels, labels_file(result.labels)});
+  write_files_atomically(files);
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
@@ -418,11 +416,9 @@ std::vector<std::string> read_input_list(const std::string& path) {
 }
 
 // One output per input in `directory`, named after the input; two inputs of the same name
-// would overwrite each other.
+// would overwrite each other. `format`: ply or ma (checked by the caller).
 std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::string& directory,
                             const std::string& format) {
-  if (format != "ply" && format != "ma")
-    throw InvalidOption("--format must be ply or ma (got '" + format + "')");
   // Created when missing, as the batch scripts do.
   std::error_code error;
   if (!fs::is_directory(directory) && !fs::create_directories(directory, error))
@@ -449,7 +445,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   Settings settings;
   RunOptionValues run_values;
   std::vector<std::string> inputs;
-  std::string output, output_dir, inputs_list, labels_path, format = "ply";
+  std::string output, output_dir, inputs_list, labels_path;
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
@@ -458,7 +454,8 @@ int skeletonize_command(int argc, const char* const* argv) {
        "medial mesh to write (.ply or .ma), for one INPUT; - for standard output (the summary "
        "then goes to standard error)")
       ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (created if missing)")
-      ("format", po::value(&format)->default_value("ply"), "with --output-dir or -o -: ply or ma")
+      ("format", po::value(&settings.output_format)->default_value("ply"),
+       "with --output-dir or -o -: ply or ma")
       ("input-format", po::value(&settings.input_format),
        "with INPUT - (standard input): its format, as a file extension (xyz, ply, off, obj, pcd)")
       ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
@@ -499,7 +496,9 @@ int skeletonize_command(int argc, const char* const* argv) {
   settings.eval = vm.count("eval") > 0;
   settings.quiet = vm.count("quiet") > 0;
 
-  settings.output_format = format;
+  const std::string& format = settings.output_format;
+  if (format != "ply" && format != "ma")
+    throw InvalidOption("--format must be ply or ma (got '" + format + "')");
   const bool from_stdin = std::find(inputs.begin(), inputs.end(), "-") != inputs.end();
   if (from_stdin && batch) throw po::error("INPUT - (standard input) takes one INPUT");
   if (from_stdin && settings.input_format.empty())
@@ -510,8 +509,6 @@ int skeletonize_command(int argc, const char* const* argv) {
 
   if (!batch) {
     const bool to_stdout = output == "-";
-    if (to_stdout && format != "ply" && format != "ma")
-      throw InvalidOption("--format must be ply or ma (got '" + format + "')");
     if (!to_stdout) check_output_option(output, check_medial_mesh_output);
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
     check_distinct_files_option({from_stdin ? "" : inputs[0], inputs_list},

@@ -302,9 +302,8 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, SurfaceInput input
   Evaluator judge(unsmoothed.surface, reach);
   SmoothingCheck check;
   check.made = true;
-  const double diagonal = unsmoothed.result.prepare.diagonal > 0.0
-                              ? unsmoothed.result.prepare.diagonal
-                              : 1.0;
+  const double diagonal =
+      unsmoothed.result.prepare.diagonal > 0.0 ? unsmoothed.result.prepare.diagonal : 1.0;
   check.smoothed_reach = judge(smoothed.medial).medial_to_surface_max / diagonal;
   check.unsmoothed_reach = judge(unsmoothed.medial).medial_to_surface_max / diagonal;
   check.smoothing_kept = check.smoothed_reach <= check.unsmoothed_reach;

@@ -114,9 +114,9 @@ TEST_F(Cli, VersionAndJsonSummaryWithEval) {
   EXPECT_GT(summary["eval"]["hausdorff_percent"].get<double>(), 0.0);
   EXPECT_LT(summary["eval"]["hausdorff_percent"].get<double>(), 10.0);
   // Timings are reported, not judged here (scripts/bench measures them): every stage is listed.
-  for (const char* stage : {"read", "clean", "prepare", "shape", "partition", "update",
-                            "projection", "split", "connectivity", "smoothing_check", "write",
-                            "total"})
+  for (const char* stage :
+       {"read", "clean", "prepare", "shape", "partition", "update", "projection", "split",
+        "connectivity", "smoothing_check", "write", "total"})
     EXPECT_TRUE(summary["seconds"].contains(stage)) << stage;
   // A clean mesh is not smoothed, so its smoothing is not checked.
   EXPECT_FALSE(summary["noise"]["smoothing_check"]["made"].get<bool>());
@@ -279,13 +279,13 @@ TEST_F(Cli, StandardInputAndOutput) {
   ASSERT_EQ(piped.exit_code, 0) << piped.err;
   EXPECT_EQ(piped.out, read_text(path("file.ply")));
   EXPECT_NE(piped.err.find("\"output\":\"-\""), std::string::npos) << piped.err;
-  const Result ma = run("skeletonize - --input-format off -n 4 -q -o - --format ma < " +
-                        path("capsule.off"));
+  const Result ma =
+      run("skeletonize - --input-format off -n 4 -q -o - --format ma < " + path("capsule.off"));
   EXPECT_EQ(ma.out.rfind("4 ", 0), 0u) << ma.out;  // "nv ne nf"
   // Errors name standard input; without --input-format it is a usage error.
   write("bad.ply", "not a ply\n");
-  const Result bad = run("skeletonize - --input-format ply -n 4 -o " + path("o.ply") + " < " +
-                         path("bad.ply"));
+  const Result bad =
+      run("skeletonize - --input-format ply -n 4 -o " + path("o.ply") + " < " + path("bad.ply"));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("standard input"), std::string::npos) << bad.err;
   EXPECT_EQ(run("skeletonize - -n 4 -o " + path("o.ply") + " < " + path("bad.ply")).exit_code, 2);

@@ -7,14 +7,13 @@
 #include <random>
 #include <string>
 
+#include "test_shapes.hpp"
 #include "vmas/connectivity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
-
-#include "test_shapes.hpp"
 
 namespace vmas {
 namespace {

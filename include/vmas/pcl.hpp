@@ -26,6 +26,14 @@
 
 namespace vmas {
 
+// The i-th point taken: cloud[i], or cloud[indices[i]]; an index past the cloud throws
+// std::out_of_range.
+template <typename PointT>
+const PointT& point_taken(const pcl::PointCloud<PointT>& cloud, const pcl::Indices* indices,
+                          std::size_t i) {
+  return cloud.points.at(indices ? static_cast<std::size_t>((*indices)[i]) : i);
+}
+
 // The points of `cloud` in order (or those at `indices`, in their order), NaN ones included (an
 // organised cloud's "no return"). Any PCL point type with x, y and z; a type with normal_x,
 // normal_y and normal_z (pcl::PointNormal, PointXYZRGBNormal, PointXYZINormal, ...) gives its
@@ -39,7 +47,7 @@ SurfaceInput to_surface(const pcl::PointCloud<PointT>& cloud,
   const std::size_t count = indices ? indices->size() : cloud.size();
   surface.points.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const PointT& p = cloud.points.at(indices ? static_cast<std::size_t>((*indices)[i]) : i);
+    const PointT& p = point_taken(cloud, indices, i);
     surface.points.emplace_back(p.x, p.y, p.z);
     if constexpr (pcl::traits::has_normal_v<PointT>)
       surface.normals.emplace_back(p.normal_x, p.normal_y, p.normal_z);
@@ -55,35 +63,23 @@ Result skeletonize(const pcl::PointCloud<PointT>& cloud, const Options& options 
 }
 
 // Of the points at `indices` (pcl::Indices, as PCL's filters and segmentations give them);
-// result.labels has one entry per index, in their order. An index past the cloud throws
-// std::out_of_range.
+// result.labels has one entry per index, in their order.
 template <typename PointT>
 Result skeletonize(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices,
                    const Options& options = {}, const ProgressCallback& progress = {}) {
   return skeletonize(to_surface(cloud, &indices), options, progress);
 }
 
-// The same through PCL's shared pointers (PointCloud<T>::Ptr and ::ConstPtr).
-template <typename PointT>
-Result skeletonize(const std::shared_ptr<const pcl::PointCloud<PointT>>& cloud,
-                   const Options& options = {}, const ProgressCallback& progress = {}) {
+// The same through PCL's shared pointers: `Cloud` is pcl::PointCloud<T> (PointCloud<T>::Ptr)
+// or const pcl::PointCloud<T> (::ConstPtr).
+template <typename Cloud>
+Result skeletonize(const std::shared_ptr<Cloud>& cloud, const Options& options = {},
+                   const ProgressCallback& progress = {}) {
   return skeletonize(*cloud, options, progress);
 }
-template <typename PointT>
-Result skeletonize(const std::shared_ptr<pcl::PointCloud<PointT>>& cloud,
+template <typename Cloud>
+Result skeletonize(const std::shared_ptr<Cloud>& cloud, const pcl::Indices& indices,
                    const Options& options = {}, const ProgressCallback& progress = {}) {
-  return skeletonize(*cloud, options, progress);
-}
-template <typename PointT>
-Result skeletonize(const std::shared_ptr<const pcl::PointCloud<PointT>>& cloud,
-                   const pcl::Indices& indices, const Options& options = {},
-                   const ProgressCallback& progress = {}) {
-  return skeletonize(*cloud, indices, options, progress);
-}
-template <typename PointT>
-Result skeletonize(const std::shared_ptr<pcl::PointCloud<PointT>>& cloud,
-                   const pcl::Indices& indices, const Options& options = {},
-                   const ProgressCallback& progress = {}) {
   return skeletonize(*cloud, indices, options, progress);
 }
 
@@ -108,24 +104,21 @@ pcl::PointCloud<pcl::PointXYZL> labelled_cloud(const pcl::PointCloud<PointT>& cl
                                                const Result& result,
                                                const pcl::Indices* indices = nullptr) {
   pcl::PointCloud<pcl::PointXYZL> labelled;
-  if (!indices) {  // keeps an organised cloud's grid
-    labelled.width = cloud.width;
-    labelled.height = cloud.height;
-  }
-  labelled.is_dense = false;
   for (std::size_t i = 0; i < result.labels.size(); ++i) {
-    const PointT& p = cloud.points.at(indices ? static_cast<std::size_t>((*indices)[i]) : i);
+    const PointT& p = point_taken(cloud, indices, i);
     pcl::PointXYZL point;
     point.x = p.x;
     point.y = p.y;
     point.z = p.z;
-    point.label = result.labels[i] >= 0 ? static_cast<std::uint32_t>(result.labels[i]) : kUnlabelled;
+    point.label =
+        result.labels[i] >= 0 ? static_cast<std::uint32_t>(result.labels[i]) : kUnlabelled;
     labelled.points.push_back(point);
   }
-  if (indices || labelled.size() != static_cast<std::size_t>(cloud.width) * cloud.height) {
-    labelled.width = static_cast<std::uint32_t>(labelled.size());
-    labelled.height = 1;
-  }
+  // The whole of an organised cloud keeps its grid; anything else is one row.
+  const bool whole = indices == nullptr;
+  labelled.width = whole ? cloud.width : static_cast<std::uint32_t>(labelled.size());
+  labelled.height = whole ? cloud.height : 1;
+  labelled.is_dense = false;
   return labelled;
 }
 

@@ -60,8 +60,9 @@ struct Timings {  // seconds
 };
 
 // When the noise of a cloud was smoothed and the skeleton came out far from the data
-// (large-error), the points were skeletonized a second time as they are, and both skeletons measured against them:
-// the one reaching less far past them is the result (lengths: fraction of the diagonal).
+// (large-error), the points were skeletonized a second time as they are, and both skeletons
+// measured against them: the one reaching less far past them is the result (lengths: fraction
+// of the diagonal).
 struct SmoothingCheck {
   bool made = false;
   bool smoothing_kept = true;     // false: the result is that of the unsmoothed points

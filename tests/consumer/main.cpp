@@ -95,8 +95,9 @@ std::string check_point_types(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   const pcl::PointCloud<pcl::PointXYZ>::ConstPtr shared = cloud.makeShared();
   if (!same(vmas::skeletonize(shared, options))) return "ConstPtr differs from the cloud";
   // NaN normals are estimated: every finite point keeps its place and gets a label.
-  for (const vmas::Result& r : {vmas::skeletonize(as_type<pcl::PointNormal>(cloud), options),
-                                vmas::skeletonize(as_type<pcl::PointXYZRGBNormal>(cloud), options)}) {
+  for (const vmas::Result& r :
+       {vmas::skeletonize(as_type<pcl::PointNormal>(cloud), options),
+        vmas::skeletonize(as_type<pcl::PointXYZRGBNormal>(cloud), options)}) {
     if (r.medial_mesh.spheres.size() != 40) return "a type with NaN normals: not 40 spheres";
     for (std::size_t i = 0; i < cloud.size(); ++i)
       if (std::isfinite(cloud[i].x) && r.labels[i] < 0 && reference.labels[i] >= 0)
@@ -110,7 +111,8 @@ std::string check_point_types(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   std::size_t clustered = 0;
   for (const pcl::PointIndices& c : vmas::clusters_of(part, &finite))
     for (pcl::index_t i : c.indices) {
-      if (!(cloud[static_cast<std::size_t>(i)].x < 0.5f)) return "clusters_of: index outside the subset";
+      if (!(cloud[static_cast<std::size_t>(i)].x < 0.5f))
+        return "clusters_of: index outside the subset";
       ++clustered;
     }
   std::size_t labelled = 0;
