@@ -6,6 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "standard_streams.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
@@ -17,12 +18,12 @@ namespace {
 
 const char* kDescription =
     "usage: vmas eval SHAPE MEDIAL [--json] [--samples N] [--seed S] [--errors FILE]\n"
-    "                 [--medial-errors FILE]\n"
+    "                 [--medial-errors FILE] [--input-format EXT]\n"
     "\n"
     "Two-sided Hausdorff distance between SHAPE (a mesh or point cloud) and the reconstruction\n"
     "of MEDIAL (.ply or .ma): the union of its spheres, of the round cones of its edges and of\n"
     "the slabs of its triangles, as in the paper's Table 1. Reported in % of the bounding-box\n"
-    "diagonal of SHAPE.\n"
+    "diagonal of SHAPE. SHAPE or MEDIAL can be - (standard input, in --input-format).\n"
     "\n"
     "options";
 
@@ -54,7 +55,7 @@ std::string number(double value) {
 int eval_command(int argc, const char* const* argv) {
   const EvalOptions defaults;
   EvalOptions options;
-  std::string shape_path, medial_path, errors_path, medial_errors_path;
+  std::string shape_path, medial_path, errors_path, medial_errors_path, input_format;
   int threads = 0;
   po::options_description visible(kDescription);
   // clang-format off
@@ -73,6 +74,8 @@ int eval_command(int argc, const char* const* argv) {
       ("medial-errors", po::value(&medial_errors_path),
        "write the medial-to-surface distance of every visible sample on the reconstruction's "
        "boundary to FILE, one 'x y z distance' line each, after '#' lines giving the summary")
+      ("input-format", po::value(&input_format),
+       "the format of SHAPE or MEDIAL given as - (standard input): off, ply, xyz, ... or ma")
       ("threads", po::value(&threads)->default_value(0), "OpenMP threads (0: all cores)");
   // clang-format on
   po::options_description hidden;
@@ -92,12 +95,21 @@ int eval_command(int argc, const char* const* argv) {
   options.validate();
 
   const auto start = std::chrono::steady_clock::now();
+  if (is_standard_stream(errors_path) || is_standard_stream(medial_errors_path))
+    throw po::error("--errors and --medial-errors need a file (- is not supported)");
   if (!errors_path.empty()) check_output_option(errors_path, check_output);
   if (!medial_errors_path.empty()) check_output_option(medial_errors_path, check_output);
-  check_distinct_files_option({shape_path, medial_path}, {errors_path, medial_errors_path});
+  check_standard_input({shape_path, medial_path}, input_format);
+  check_distinct_files_option({is_standard_stream(shape_path) ? "" : shape_path,
+                               is_standard_stream(medial_path) ? "" : medial_path},
+                              {errors_path, medial_errors_path});
 
-  const SurfaceInput shape = read_surface(shape_path);
-  const MedialMesh medial = read_medial_mesh(medial_path);
+  SurfaceInput shape;
+  with_input_file(shape_path, input_format,
+                  [&](const std::string& path) { shape = read_surface(path); });
+  MedialMesh medial;
+  with_input_file(medial_path, input_format,
+                  [&](const std::string& path) { medial = read_medial_mesh(path); });
   const EvalResult result = evaluate(shape, medial, options);
   std::vector<OutputFile> files;  // written together
   if (!errors_path.empty()) {

@@ -4,11 +4,9 @@
 
 #include <algorithm>
 #include <boost/program_options.hpp>
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -19,6 +17,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "standard_streams.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
@@ -302,61 +301,12 @@ ProgressCallback stderr_progress(const std::string& input, ProgressStyle style) 
   };
 }
 
-// INPUT `-`: standard input copied to a temporary file that has the extension the readers go
-// by, so that they bound their work by what it holds as for any file; removed when done.
-class StdinCopy {
- public:
-  explicit StdinCopy(const std::string& extension) {
-    const char* folder = std::getenv("TMPDIR");
-    std::string name = std::string(folder && *folder ? folder : "/tmp") + "/vmas-stdin-XXXXXX." +
-                       extension;
-    const int file = mkstemps(name.data(), static_cast<int>(extension.size() + 1));
-    if (file < 0)
-      throw IoError("standard input: cannot create a temporary file in " + name + ": " +
-                    std::strerror(errno));
-    path_ = name;
-    std::vector<char> buffer(1 << 16);
-    for (;;) {
-      const ssize_t got = read(STDIN_FILENO, buffer.data(), buffer.size());
-      if (got == 0) break;
-      if (got < 0 && errno == EINTR) continue;
-      if (got < 0) fail(file, "cannot read it");
-      for (ssize_t done = 0; done < got;) {
-        const ssize_t put = write(file, buffer.data() + done, static_cast<std::size_t>(got - done));
-        if (put < 0 && errno == EINTR) continue;
-        if (put < 0) fail(file, "cannot copy it to " + path_);
-        done += put;
-      }
-    }
-    if (close(file) != 0) fail(-1, "cannot copy it to " + path_);
-  }
-  ~StdinCopy() { std::remove(path_.c_str()); }
-  StdinCopy(const StdinCopy&) = delete;
-  StdinCopy& operator=(const StdinCopy&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  [[noreturn]] void fail(int file, const std::string& what) {
-    const std::string reason = std::strerror(errno);
-    if (file >= 0) close(file);
-    std::remove(path_.c_str());
-    throw IoError("standard input: " + what + " (" + reason + ")");
-  }
-  std::string path_;
-};
-
 // Reads `job.input` (standard input for `-`, in `input_format`); errors name it as given.
 SurfaceInput read_input(const Job& job, const std::string& input_format) {
-  if (job.input != "-") return read_surface_as_stored(job.input);
-  const StdinCopy copy(input_format);
-  try {
-    return read_surface_as_stored(copy.path());
-  } catch (const IoError& e) {
-    std::string message = e.what();
-    for (std::size_t at; (at = message.find(copy.path())) != std::string::npos;)
-      message.replace(at, copy.path().size(), "standard input");
-    throw IoError(message);
-  }
+  SurfaceInput surface;
+  with_input_file(job.input, input_format,
+                  [&](const std::string& path) { surface = read_surface_as_stored(path); });
+  return surface;
 }
 
 // Reads, skeletonizes and writes one input; returns its summary. Errors about the data name
@@ -385,12 +335,9 @@ json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   const auto write_start = Clock::now();
   // What went to standard output cannot be taken back: the files land only after it did.
   std::vector<OutputFile> files;
-  if (job.output == "-") {
-    const std::string bytes =
-        medial_mesh_file("standard output." + settings.output_format, result.medial_mesh);
-    if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
-        std::fflush(stdout) != 0)
-      throw IoError(std::string("standard output: cannot write (") + std::strerror(errno) + ")");
+  if (is_standard_stream(job.output)) {
+    write_standard_output(
+        medial_mesh_file("standard output." + settings.output_format, result.medial_mesh));
   } else {
     files.push_back({job.output, medial_mesh_file(job.output, result.medial_mesh)});
   }
@@ -499,16 +446,13 @@ int skeletonize_command(int argc, const char* const* argv) {
   const std::string& format = settings.output_format;
   if (format != "ply" && format != "ma")
     throw InvalidOption("--format must be ply or ma (got '" + format + "')");
-  const bool from_stdin = std::find(inputs.begin(), inputs.end(), "-") != inputs.end();
+  const bool from_stdin = std::any_of(inputs.begin(), inputs.end(), is_standard_stream);
   if (from_stdin && batch) throw po::error("INPUT - (standard input) takes one INPUT");
-  if (from_stdin && settings.input_format.empty())
-    throw po::error("INPUT - (standard input) needs --input-format");
-  if (!from_stdin && !settings.input_format.empty())
-    throw po::error("--input-format is for INPUT - (standard input)");
-  if (labels_path == "-") throw po::error("--labels needs a file (- is not supported)");
+  check_standard_input(inputs, settings.input_format);
+  if (is_standard_stream(labels_path)) throw po::error("--labels needs a file (- is not supported)");
 
   if (!batch) {
-    const bool to_stdout = output == "-";
+    const bool to_stdout = is_standard_stream(output);
     if (!to_stdout) check_output_option(output, check_medial_mesh_output);
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
     check_distinct_files_option({from_stdin ? "" : inputs[0], inputs_list},

@@ -234,18 +234,26 @@ void check_output(const std::string& path) {
   ::unlink(temporary.c_str());
 }
 
-void check_medial_mesh_output(const std::string& path) {
-  check_output(path);
+void check_medial_mesh_format(const std::string& path) {
   const std::string extension = io_internal::lower_extension(path);
   if (extension != ".ply" && extension != ".ma")
     fail(path, "cannot write a medial mesh as " + quote(extension) + " (expected .ply or .ma)");
 }
 
-void check_surface_output(const std::string& path) {
-  check_output(path);
+void check_surface_format(const std::string& path) {
   const std::string extension = io_internal::lower_extension(path);
   if (extension != ".ply" && extension != ".off" && extension != ".xyz")
     fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
+}
+
+void check_medial_mesh_output(const std::string& path) {
+  check_output(path);
+  check_medial_mesh_format(path);
+}
+
+void check_surface_output(const std::string& path) {
+  check_output(path);
+  check_surface_format(path);
 }
 
 void check_distinct_files(const std::vector<std::string>& inputs,

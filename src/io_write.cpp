@@ -10,8 +10,6 @@
 namespace vmas {
 namespace {
 
-using io_internal::fail;
-using io_internal::quote;
 using Face = std::array<int, 3>;
 
 // Appends a value in little-endian byte order, whatever the host's.
@@ -44,7 +42,8 @@ void append_numbers(std::string& out, std::initializer_list<double> values, int 
 
 }  // namespace
 
-void write_surface(const std::string& path, const SurfaceInput& surface) {
+std::string surface_file(const std::string& path, const SurfaceInput& surface) {
+  check_surface_format(path);
   const std::string extension = io_internal::lower_extension(path);
   const bool normals = surface.has_normals();
   std::string out;
@@ -84,7 +83,7 @@ void write_surface(const std::string& path, const SurfaceInput& surface) {
     for (const Face& face : surface.faces)
       out += "3 " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " +
              std::to_string(face[2]) + "\n";
-  } else if (extension == ".xyz") {
+  } else {  // .xyz
     for (std::size_t i = 0; i < surface.points.size(); ++i) {
       const Vec3& p = surface.points[i];
       if (normals) {
@@ -94,10 +93,12 @@ void write_surface(const std::string& path, const SurfaceInput& surface) {
         append_numbers(out, {p.x(), p.y(), p.z()}, 9);
       }
     }
-  } else {
-    fail(path, "cannot write " + quote(extension) + " files (expected .ply, .off or .xyz)");
   }
-  write_file_atomically(path, out);
+  return out;
+}
+
+void write_surface(const std::string& path, const SurfaceInput& surface) {
+  write_file_atomically(path, surface_file(path, surface));
 }
 
 namespace {
@@ -120,7 +121,7 @@ bool needs_double(const std::vector<Sphere>& spheres) {
 }  // namespace
 
 std::string medial_mesh_file(const std::string& path, const MedialMesh& mesh) {
-  check_medial_mesh_output(path);
+  check_medial_mesh_format(path);
   const std::string extension = io_internal::lower_extension(path);
   std::string out;
   if (extension == ".ply") {

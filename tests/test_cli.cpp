@@ -292,6 +292,44 @@ TEST_F(Cli, StandardInputAndOutput) {
   EXPECT_FALSE(fs::exists(path("o.ply")));
 }
 
+// convert and eval take `-` as skeletonize does: the same bytes, the same figures as files.
+TEST_F(Cli, ConvertAndEvalTakeStandardStreams) {
+  write_surface(path("capsule.off"), test::capsule(0.2, 1.0, 8, 24));
+  ASSERT_EQ(run("convert " + path("capsule.off") + " " + path("file.xyz") + " -q").exit_code, 0);
+  const Result piped = run("convert - - --input-format off --format xyz < " + path("capsule.off"));
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.out, read_text(path("file.xyz")));
+  EXPECT_NE(piped.err.find("- -> -"), std::string::npos) << piped.err;  // summary on stderr
+
+  ASSERT_EQ(run("skeletonize " + path("capsule.off") + " -n 4 -q -o " + path("s.ply")).exit_code,
+            0);
+  const Result ma = run("convert --medial - - --input-format ply --format ma < " + path("s.ply"));
+  EXPECT_EQ(ma.out.rfind("4 ", 0), 0u) << ma.err;
+  const Result from_files = run("eval " + path("capsule.off") + " " + path("s.ply") + " --json");
+  const Result from_stdin =
+      run("eval " + path("capsule.off") + " - --input-format ply --json < " + path("s.ply"));
+  ASSERT_EQ(from_stdin.exit_code, 0) << from_stdin.err;
+  const auto epsilon = [](const std::string& out) {
+    return out.substr(out.find("hausdorff_percent"), 30);
+  };
+  EXPECT_EQ(epsilon(from_stdin.out), epsilon(from_files.out));
+
+  // Usage errors: a second -, - without its format, a format without -; errors name the stream.
+  for (const std::string args :
+       {std::string("eval - - --input-format off"), "eval - " + path("s.ply"),
+        "convert " + path("capsule.off") + " -", "convert " + path("capsule.off") + " - --format obj",
+        "convert " + path("capsule.off") + " " + path("o.off") + " --format off",
+        "eval " + path("capsule.off") + " " + path("s.ply") + " --errors -"}) {
+    const Result r = run(args + " < " + path("capsule.off"));
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  }
+  write("bad.off", "not an off\n");
+  const Result bad = run("convert - " + path("o.ply") + " --input-format off < " + path("bad.off"));
+  EXPECT_EQ(bad.exit_code, 1);
+  expect_one_line_error(bad, "standard input");
+  EXPECT_FALSE(fs::exists(path("o.ply")));
+}
+
 // --labels on a device or FIFO is refused before the run; neither is replaced.
 TEST_F(Cli, SpecialFilesAreNeverReplaced) {
   write_surface(path("a.ply"), test::capsule(0.2, 1.0, 8, 24));

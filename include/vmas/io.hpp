@@ -33,6 +33,8 @@ SurfaceInput read_surface_as_stored(const std::string& path);
 // present), .off (exact doubles; NOFF for clouds with normals, a mesh's normals are not written),
 // .xyz (9 significant digits, with normals if present; faces are not written).
 void write_surface(const std::string& path, const SurfaceInput& surface);
+// The bytes write_surface would write to `path` (its format by the extension).
+std::string surface_file(const std::string& path, const SurfaceInput& surface);
 
 // Medial mesh: .ply (vertex x y z radius, edge vertex1 vertex2, face vertex_indices) or .ma
 // (Q-MAT format: "nv ne nf", then v/e/f lines, 0-based). Spheres with a non-finite value or one
@@ -66,6 +68,9 @@ void write_file_atomically(const std::string& path, const std::string& contents)
 void check_output(const std::string& path);
 void check_medial_mesh_output(const std::string& path);
 void check_surface_output(const std::string& path);  // also: not .ply, .off or .xyz
+// The format alone (the extension), for outputs that are not files (standard output).
+void check_medial_mesh_format(const std::string& path);
+void check_surface_format(const std::string& path);
 
 // Throws IoError naming the output when an output is the same file as an input (by identity:
 // hard links and other spellings included) or as another output. Call it before any work.
