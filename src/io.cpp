@@ -65,9 +65,22 @@ using io_internal::lower_extension;
 using io_internal::quote;
 using io_internal::read_file;
 
-SurfaceInput read_surface_as_stored(const std::string& path) {
-  // "No such file" beats "unknown extension" for a mistyped path.
-  io_internal::check_readable(path);
+namespace {
+
+// Runs `read`; running out of memory is an IoError naming the file, as every reader's error is.
+template <class Read>
+auto naming_the_file_on_bad_alloc(const std::string& path, Read read) {
+  try {
+    return read();
+  } catch (const std::bad_alloc&) {
+    std::error_code error;
+    const auto bytes = std::filesystem::file_size(path, error);
+    fail(path, "not enough memory to read it (" + std::to_string(error ? 0 : bytes >> 20) +
+                   " MB on disk)");
+  }
+}
+
+SurfaceInput read_stored(const std::string& path) {
   const std::string extension = lower_extension(path);
   SurfaceInput surface;
   if (extension == ".pcd") {
@@ -91,6 +104,14 @@ SurfaceInput read_surface_as_stored(const std::string& path) {
   return surface;
 }
 
+}  // namespace
+
+SurfaceInput read_surface_as_stored(const std::string& path) {
+  // "No such file" beats "unknown extension" for a mistyped path.
+  io_internal::check_readable(path);
+  return naming_the_file_on_bad_alloc(path, [&] { return read_stored(path); });
+}
+
 SurfaceInput read_surface(const std::string& path, CleanReport* report) {
   SurfaceInput surface = read_surface_as_stored(path);
   CleanReport cleaned;
@@ -108,9 +129,11 @@ MedialMesh read_medial_mesh(const std::string& path) {
   const std::string extension = lower_extension(path);
   if (extension != ".ma" && extension != ".ply")
     fail(path, "unknown medial mesh extension " + quote(extension) + " (expected .ply or .ma)");
-  const std::string bytes = read_file(path, extension);
-  return extension == ".ma" ? io_internal::parse_ma(path, bytes)
-                            : io_internal::parse_ply_medial(path, bytes);
+  return naming_the_file_on_bad_alloc(path, [&] {
+    const std::string bytes = read_file(path, extension);
+    return extension == ".ma" ? io_internal::parse_ma(path, bytes)
+                              : io_internal::parse_ply_medial(path, bytes);
+  });
 }
 
 }  // namespace vmas

@@ -158,11 +158,15 @@ inline bool to_index(double value, std::size_t count, int& index) {
   return true;
 }
 
+// The problem of a face of `size` vertices, or "" when it can be a face.
+inline std::string polygon_size_problem(std::size_t size) {
+  return size < 3 ? "face with " + std::to_string(size) + " vertices (at least 3 needed)" : "";
+}
+
 // Fan-triangulates a polygon into `faces`; returns the problem, or "" when the polygon is valid.
 inline std::string add_polygon(const std::vector<double>& polygon, std::size_t vertex_count,
                                std::vector<Face>& faces) {
-  if (polygon.size() < 3)
-    return "face with " + std::to_string(polygon.size()) + " vertices (at least 3 needed)";
+  if (polygon.size() < 3) return polygon_size_problem(polygon.size());
   std::vector<int> indices(polygon.size());
   for (std::size_t k = 0; k < polygon.size(); ++k)
     if (!to_index(polygon[k], vertex_count, indices[k])) {

@@ -151,6 +151,15 @@ std::size_t parse_ply_header(const std::string& path, std::string_view bytes, Pl
                  " of " + std::to_string(element.count) + " items");
 }
 
+// A face list too short to be a face fails at once: a file of empty lists would otherwise be
+// stored whole (8 bytes of list start per byte of file) before the first one is looked at.
+void check_face_size(const std::string& path, const PlyElement& element, std::size_t item,
+                     std::size_t length) {
+  if (element.name != "face") return;
+  const std::string problem = polygon_size_problem(length);
+  if (!problem.empty()) fail(path, "face " + std::to_string(item) + ": " + problem);
+}
+
 // Reads a PLY file; only the elements named in `wanted` get their values stored.
 PlyFile read_ply(const std::string& path, std::string_view bytes,
                  std::initializer_list<std::string_view> wanted) {
@@ -182,6 +191,7 @@ PlyFile read_ply(const std::string& path, std::string_view bytes,
           if (!(value >= 0.0)) fail(path, "negative list length in element '" + element.name + "'");
           if (value > static_cast<double>(end - cursor) / size) fail_truncated(path, element, item);
           const auto length = static_cast<std::size_t>(value);
+          check_face_size(path, element, item, length);
           if (!keep) {
             cursor += length * size;
             continue;
@@ -216,6 +226,7 @@ PlyFile read_ply(const std::string& path, std::string_view bytes,
           continue;
         }
         const std::size_t length = lines.count(take());
+        check_face_size(path, element, item, length);
         for (std::size_t k = 0; k < length; ++k) {
           const std::string_view token = take();
           if (keep) property.values.push_back(lines.number(token));

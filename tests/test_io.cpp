@@ -254,6 +254,20 @@ TEST_F(IoPly, MalformedFilesThrow) {
   expect_io_error([&] { read_medial_mesh(no_radius); }, no_radius, "radius");
 }
 
+// A face list too short to be a face fails where it stands, before the rest of the file is
+// stored (here the rest is missing: read whole first, the file would be called truncated).
+TEST_F(IoPly, ShortFaceListFailsAtOnce) {
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1000\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  std::string body(9 * sizeof(float), '\0');
+  body += std::string(2, '\0');  // two empty face lists, then nothing
+  const std::string path = write("short.ply", header + body);
+  expect_io_error([&] { read_surface(path); }, path, "face 0: face with 0 vertices");
+  expect_io_error([&] { read_medial_mesh(path); }, path, "face 0: face with 0 vertices");
+}
+
 // A file of zeros (a failed copy, a sparse placeholder) is refused from its first bytes, before
 // vmas reads it all, for every format.
 TEST_F(IoPly, ZeroFilesAreRefusedFromTheirStart) {
