@@ -1,5 +1,5 @@
 // `vmas edit`: the live skeleton editor. One EditSession optimises in a worker thread; a local
-// HTTP server (Debian's cpp-httplib) serves the page (three.js from Debian's libjs-three), the
+// HTTP server (apps/http_server: Boost.Beast) serves the page (three.js from Debian's libjs-three), the
 // shape once, the state as server-sent events, and takes edits as POSTed JSON. The protocol is
 // documented in the README ("Editing a skeleton").
 #include <signal.h>
@@ -18,12 +18,11 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "http_server.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
-// After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
-#include <httplib.h>
 
 namespace po = boost::program_options;
 using json = nlohmann::json;
@@ -47,9 +46,7 @@ const char* kDescription =
 constexpr const char* kThreeDirectory = "/usr/share/javascript/three";  // Debian's libjs-three
 constexpr auto kUpdateInterval = std::chrono::milliseconds(1000 / 30);  // at most 30 updates/s
 constexpr auto kKeepAlive = std::chrono::milliseconds(1000);
-constexpr std::size_t kMaxRequestBytes = 64 * 1024;
-// Pages open at once: each event stream holds one of cpp-httplib's (at least 8) threads, and the
-// others must stay free for edits.
+// Pages open at once (each event stream holds a thread and a copy of the state it sent).
 constexpr int kMaxPages = 4;
 // Label changes sent as a list below this many; above, all labels are sent.
 constexpr std::size_t kMaxListedLabels = 4096;
@@ -141,9 +138,17 @@ std::string shape_bytes(const Shape& shape) {
   return bytes;
 }
 
-void reply_error(httplib::Response& res, int status, const std::string& message) {
-  res.status = status;
-  res.set_content(json{{"error", message}}.dump(), "application/json");
+// A file of Debian's three.js for the page, or "" when `name` is not one (nothing outside the
+// folder, no hidden files).
+std::string three_file(const std::string& name) {
+  if (name.empty() || name.find("..") != std::string::npos || name[0] == '/' ||
+      name.find("/.") != std::string::npos || name[0] == '.')
+    return "";
+  const std::string path = std::string(kThreeDirectory) + "/" + name;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return "";
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), {});
 }
 
 // An integer field of an edit, checked before narrowing (JSON numbers may be anything).
@@ -226,16 +231,21 @@ int edit_command(int argc, const char* const* argv) {
   sigaddset(&stop_signals, SIGUSR1);  // sent by this program to end the watcher
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+  if (!std::filesystem::is_regular_file(std::string(kThreeDirectory) + "/three.min.js"))
+    throw IoError(std::string(kThreeDirectory) +
+                  "/three.min.js: not found (the page needs Debian's libjs-three)");
+
   // Listening first: a port in use or a foreign address fails before the input is prepared.
-  httplib::Server server;
-  server.set_payload_max_length(kMaxRequestBytes);
+  HttpServer server;
   const std::string token = random_token();
   std::atomic<int> pages{0};           // event streams open now
   std::atomic<bool> page_seen{false};  // ... and ever
-  std::atomic<bool> stopping{false};
-  const int bound =
-      port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
-  if (bound < 0) throw InvalidInput("cannot listen on " + host + ":" + std::to_string(port));
+  int bound = 0;
+  try {
+    bound = server.bind(host, port);
+  } catch (const std::runtime_error& e) {
+    throw InvalidInput(e.what());
+  }
   const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
   PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
@@ -245,96 +255,98 @@ int edit_command(int argc, const char* const* argv) {
   const std::string shape = shape_bytes(session.shape());
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
-  // page (its Origin) is refused even with it.
-  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
-    const std::string given = req.has_param("token") ? req.get_param_value("token")
-                                                     : req.get_header_value("X-Vmas-Token");
+  // page (its Origin) is refused even with it. Either way the connection is then closed.
+  server.set_guard([&](const HttpRequest& req, HttpResponse& res) {
+    const auto query_token = req.query.find("token");
+    const std::string given =
+        query_token != req.query.end() ? query_token->second : req.header("x-vmas-token");
     if (given != token) {
-      reply_error(res, 403, "missing or wrong token: open the URL that vmas edit printed");
-      return httplib::Server::HandlerResponse::Handled;
+      res.json_error(403, "missing or wrong token: open the URL that vmas edit printed");
+      return false;
     }
     // The page's own origin is the address it was loaded from (with --host 0.0.0.0, another
     // machine's name for this one): the Host header of the same request.
-    if (req.has_header("Origin") &&
-        req.get_header_value("Origin") != "http://" + req.get_header_value("Host")) {
-      reply_error(res, 403, "requests from " + req.get_header_value("Origin") + " are refused");
-      return httplib::Server::HandlerResponse::Handled;
+    const std::string page_origin = req.header("origin");
+    if (!page_origin.empty() && page_origin != "http://" + req.header("host")) {
+      res.json_error(403, "requests from " + page_origin + " are refused");
+      return false;
     }
-    return httplib::Server::HandlerResponse::Unhandled;
+    return true;
   });
   std::string page = kEditPage;  // its script tags carry the token too
   for (std::size_t at; (at = page.find("TOKEN_PLACEHOLDER")) != std::string::npos;)
     page.replace(at, std::strlen("TOKEN_PLACEHOLDER"), token);
-  server.Get("/", [&](const httplib::Request&, httplib::Response& res) {
-    res.set_content(page, "text/html; charset=utf-8");
+  server.route("GET", "/", [&](const HttpRequest&, HttpResponse& res) {
+    res.content_type = "text/html; charset=utf-8";
+    res.body = page;
   });
-  server.set_mount_point("/three", kThreeDirectory);
-  server.Get("/api/shape", [&](const httplib::Request&, httplib::Response& res) {
-    res.set_content(shape, "application/octet-stream");
+  server.route("GET", "/three/*", [&](const HttpRequest& req, HttpResponse& res) {
+    res.body = three_file(req.path.substr(std::strlen("/three/")));
+    if (res.body.empty()) return res.json_error(404, "no such file: " + req.path);
+    res.content_type = "text/javascript";
   });
-  server.Get("/api/labels", [&](const httplib::Request&, httplib::Response& res) {
+  server.route("GET", "/api/shape", [&](const HttpRequest&, HttpResponse& res) {
+    res.content_type = "application/octet-stream";
+    res.body = shape;
+  });
+  server.route("GET", "/api/labels", [&](const HttpRequest&, HttpResponse& res) {
     const EditSnapshot s = session.snapshot();
-    std::string bytes(reinterpret_cast<const char*>(s.labels.data()),
-                      s.labels.size() * sizeof(int));
-    res.set_header("X-Vmas-Version", std::to_string(s.version));
-    res.set_content(std::move(bytes), "application/octet-stream");
+    res.content_type = "application/octet-stream";
+    res.body.assign(reinterpret_cast<const char*>(s.labels.data()), s.labels.size() * sizeof(int));
+    res.headers.emplace_back("X-Vmas-Version", std::to_string(s.version));
   });
-  server.Get("/api/events", [&](const httplib::Request&, httplib::Response& res) {
-    // Each stream holds one of the server's threads for as long as it is open.
+  server.route("GET", "/api/events", [&](const HttpRequest&, HttpResponse& res) {
     if (pages >= kMaxPages)
-      return reply_error(res, 503, "too many pages open (" + std::to_string(kMaxPages) + ")");
+      return res.json_error(503, "too many pages open (" + std::to_string(kMaxPages) + ")");
     ++pages;
     page_seen = true;
     auto sent = std::make_shared<Sent>();
     auto last = std::make_shared<std::chrono::steady_clock::time_point>();
-    res.set_header("Cache-Control", "no-store");
-    res.set_chunked_content_provider(
-        "text/event-stream",
-        [&, sent, last](std::size_t, httplib::DataSink& sink) {
-          if (stopping || !sink.is_writable()) return false;
-          std::this_thread::sleep_until(*last + kUpdateInterval);
-          const std::uint64_t version =
-              session.wait_for_version(sent->version, static_cast<int>(kKeepAlive.count()));
-          *last = std::chrono::steady_clock::now();
-          std::string event = ": keep-alive\n\n";
-          if (version > sent->version)
-            event =
-                "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
-          return sink.write(event.data(), event.size());
-        },
-        [&](bool) { --pages; });
+    res.content_type = "text/event-stream";
+    res.headers.emplace_back("Cache-Control", "no-store");
+    // At most 30 updates a second; a comment at least every second keeps the stream open. The
+    // wait is cut in slices so that a stop ends the stream at once.
+    res.next = [&, sent, last](std::string& event) {
+      std::this_thread::sleep_until(*last + kUpdateInterval);
+      const auto keep_alive_at = std::chrono::steady_clock::now() + kKeepAlive;
+      std::uint64_t version = sent->version;
+      while (version <= sent->version && !server.stopping() &&
+             std::chrono::steady_clock::now() < keep_alive_at)
+        version = session.wait_for_version(sent->version, 100);
+      if (server.stopping()) return false;
+      *last = std::chrono::steady_clock::now();
+      event = version > sent->version
+                  ? "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n"
+                  : ": keep-alive\n\n";
+      return true;
+    };
+    res.done = [&] { --pages; };
   });
-  server.Post("/api/edit", [&](const httplib::Request& req, httplib::Response& res) {
+  server.route("POST", "/api/edit", [&](const HttpRequest& req, HttpResponse& res) {
     try {
-      res.set_content(apply_edit(session, json::parse(req.body), output, frame).dump(),
-                      "application/json");
+      res.content_type = "application/json";
+      res.body = apply_edit(session, json::parse(req.body), output, frame).dump();
     } catch (const json::exception& e) {
-      reply_error(res, 400, std::string("bad edit: ") + e.what());
+      res.json_error(400, std::string("bad edit: ") + e.what());
     } catch (const Error& e) {
-      reply_error(res, 400, e.what());
-    } catch (const std::exception& e) {
-      reply_error(res, 500, e.what());
+      res.json_error(400, e.what());
     }
   });
-  server.Get("/api/download", [&](const httplib::Request&, httplib::Response& res) {
+  server.route("GET", "/api/download", [&](const HttpRequest&, HttpResponse& res) {
     if (output.empty() || !std::filesystem::exists(output))
-      return reply_error(res, 404, "nothing saved yet");
-    res.set_header(
+      return res.json_error(404, "nothing saved yet");
+    res.headers.emplace_back(
         "Content-Disposition",
         "attachment; filename=\"" + std::filesystem::path(output).filename().string() + "\"");
     std::ifstream file(output, std::ios::binary);
-    res.set_content(std::string(std::istreambuf_iterator<char>(file), {}),
-                    "application/octet-stream");
+    res.content_type = "application/octet-stream";
+    res.body.assign(std::istreambuf_iterator<char>(file), {});
   });
 
-  std::atomic<bool> listening_over{false};
+  std::atomic<bool> stopping{false};
   const auto stop = [&] {
     stopping = true;
-    // server.stop() does nothing before listen has started (a Ctrl-C while the input was being
-    // prepared): wait for it to start, or for main to have skipped it.
-    while (!server.is_running() && !listening_over)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    server.stop();
+    server.stop();  // also before serve() has started: it then returns at once
   };
   std::thread signal_watcher([&] {
     int signal = 0;
@@ -355,8 +367,7 @@ int edit_command(int argc, const char* const* argv) {
   std::cout << origin << "/?token=" << token << std::endl;
   std::cerr << "vmas edit: " << input << ", " << session.shape().size()
             << " points; open the URL above; Ctrl-C stops\n";
-  if (!stopping) server.listen_after_bind();
-  listening_over = true;
+  server.serve();
   stopping = true;
   pthread_kill(signal_watcher.native_handle(), SIGUSR1);
   signal_watcher.join();

@@ -1,7 +1,11 @@
 // `vmas edit` over its HTTP protocol, as a browser (or another front end) speaks it: the binary
 // is started on port 0, its first stdout line gives the URL, and an HTTP client edits.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -214,6 +218,103 @@ TEST_F(EditServer, SeveralPagesSeeOneStateAndClosingTheLastStopsWithExitOnClose)
   ASSERT_EQ(done, pid_) << "still running 20 s after the last page closed";
   pid_ = -1;
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+
+// A raw TCP connection to the server, for clients no HTTP library would be.
+class RawClient {
+ public:
+  explicit RawClient(int port) : socket_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(socket_, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  }
+  ~RawClient() { ::close(socket_); }
+  RawClient(const RawClient&) = delete;
+  RawClient& operator=(const RawClient&) = delete;
+  bool connected() const { return connected_; }
+  bool send(const std::string& bytes) {
+    return ::send(socket_, bytes.data(), bytes.size(), MSG_NOSIGNAL) ==
+           static_cast<ssize_t>(bytes.size());
+  }
+  // What arrives within `timeout`, until the server closes (closed() then says so).
+  std::string receive(std::chrono::milliseconds timeout) {
+    std::string got;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      pollfd p{socket_, POLLIN, 0};
+      if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) return got;
+      char buffer[4096];
+      const ssize_t n = ::recv(socket_, buffer, sizeof buffer, 0);
+      if (n <= 0) {
+        closed_ = true;
+        return got;
+      }
+      got.append(buffer, static_cast<std::size_t>(n));
+    }
+  }
+  bool closed() const { return closed_; }
+
+ private:
+  int socket_;
+  bool connected_ = false;
+  bool closed_ = false;
+};
+
+// Slow and hostile clients hold a connection each, never the server: the page is served while
+// 100 of them trickle their headers, a request without the token gets its 403 and the
+// connection closed, a header that does not arrive whole within 10 s is cut off, and Ctrl-C
+// stops the server within a second whatever the clients do.
+TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
+  write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  start({path("ball.off"), "--spheres", "3", "--threads", "1"});
+  std::vector<std::unique_ptr<RawClient>> slow;
+  for (int i = 0; i < 100; ++i) {
+    slow.push_back(std::make_unique<RawClient>(port_));
+    ASSERT_TRUE(slow.back()->connected());
+    ASSERT_TRUE(slow.back()->send("GET / HTTP/1.1\r\nHo"));
+  }
+  const auto asked = std::chrono::steady_clock::now();
+  const auto page = client_->Get(api("/").c_str());
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_LT(std::chrono::steady_clock::now() - asked, std::chrono::seconds(2));
+
+  RawClient stranger(port_);
+  ASSERT_TRUE(stranger.send("GET /api/shape HTTP/1.1\r\nHost: x\r\n\r\n"));
+  const std::string refused = stranger.receive(std::chrono::seconds(3));
+  EXPECT_EQ(refused.rfind("HTTP/1.1 403", 0), 0u) << refused;
+  EXPECT_TRUE(stranger.closed()) << "a connection without the token stays open";
+
+  // One byte a second: the header is not whole 10 s after it began, the connection goes.
+  RawClient trickler(port_);
+  const auto began = std::chrono::steady_clock::now();
+  const std::string header = "GET /?token=" + token_ + " HTTP/1.1\r\nHost: x\r\nX-Slow: ";
+  for (std::size_t i = 0; i < 15 && !trickler.closed(); ++i) {
+    trickler.send(header.substr(i, 1));
+    trickler.receive(std::chrono::milliseconds(1000));
+  }
+  EXPECT_TRUE(trickler.closed());
+  const auto cut_after = std::chrono::steady_clock::now() - began;
+  EXPECT_GE(cut_after, std::chrono::seconds(9));
+  EXPECT_LE(cut_after, std::chrono::seconds(12));
+
+  // An event stream open, 100 slow clients still there: Ctrl-C ends it all within a second.
+  std::thread stream([&] { state_when([](const json&) { return false; }); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  for (auto& client : slow) client->send("s");
+  const auto interrupted = std::chrono::steady_clock::now();
+  kill(pid_, SIGINT);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  const auto stop_time = std::chrono::steady_clock::now() - interrupted;
+  pid_ = -1;
+  stream.join();
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_LT(stop_time, std::chrono::seconds(1));
 }
 
 }  // namespace
