@@ -158,8 +158,7 @@ struct HttpServer::State {
   }
 
   // Writes a response whole (header and body in one gathered write).
-  bool write(tcp::socket& socket, Connection& connection, HttpResponse& response,
-             bool keep_alive) {
+  bool write(tcp::socket& socket, Connection& connection, HttpResponse& response, bool keep_alive) {
     http::response<http::string_body> message{static_cast<http::status>(response.status), 11};
     message.set(http::field::content_type, response.content_type);
     for (const auto& [name, value] : response.headers) message.set(name, value);
@@ -210,14 +209,14 @@ struct HttpServer::State {
       http::read(socket, buffer, parser, error);
       HttpResponse response;
       if (error == http::error::body_limit) {
-        response.json_error(413, "request body over " + std::to_string(limits.body_bytes) +
-                                     " bytes");
+        response.json_error(413,
+                            "request body over " + std::to_string(limits.body_bytes) + " bytes");
         write(socket, *connection, response, false);
         break;
       }
       if (error == http::error::header_limit) {
-        response.json_error(431, "request header over " +
-                                     std::to_string(limits.header_bytes) + " bytes");
+        response.json_error(
+            431, "request header over " + std::to_string(limits.header_bytes) + " bytes");
         write(socket, *connection, response, false);
         break;
       }
@@ -272,8 +271,8 @@ HttpServer::~HttpServer() {
 int HttpServer::bind(const std::string& host, int port) {
   boost::system::error_code error;
   tcp::resolver resolver(state_->io);
-  const auto endpoints = resolver.resolve(host, std::to_string(port),
-                                          tcp::resolver::numeric_service, error);
+  const auto endpoints =
+      resolver.resolve(host, std::to_string(port), tcp::resolver::numeric_service, error);
   if (error || endpoints.empty())
     throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + ": " +
                              (error ? error.message() : "no address"));

@@ -14,10 +14,10 @@
 namespace vmas::cli {
 
 struct HttpRequest {
-  std::string method;                         // "GET", "POST", ...
-  std::string path;                           // the target without its query
-  std::map<std::string, std::string> query;   // decoded parameters of the query
-  std::map<std::string, std::string> headers; // names in lower case
+  std::string method;                          // "GET", "POST", ...
+  std::string path;                            // the target without its query
+  std::map<std::string, std::string> query;    // decoded parameters of the query
+  std::map<std::string, std::string> headers;  // names in lower case
   std::string body;
 
   // A header's value, or "" (name in lower case).

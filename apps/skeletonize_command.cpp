@@ -449,7 +449,8 @@ int skeletonize_command(int argc, const char* const* argv) {
   const bool from_stdin = std::any_of(inputs.begin(), inputs.end(), is_standard_stream);
   if (from_stdin && batch) throw po::error("INPUT - (standard input) takes one INPUT");
   check_standard_input(inputs, settings.input_format);
-  if (is_standard_stream(labels_path)) throw po::error("--labels needs a file (- is not supported)");
+  if (is_standard_stream(labels_path))
+    throw po::error("--labels needs a file (- is not supported)");
 
   if (!batch) {
     const bool to_stdout = is_standard_stream(output);

@@ -19,8 +19,8 @@ class StdinCopy {
  public:
   explicit StdinCopy(const std::string& extension) {
     const char* folder = std::getenv("TMPDIR");
-    std::string name = std::string(folder && *folder ? folder : "/tmp") + "/vmas-stdin-XXXXXX." +
-                       extension;
+    std::string name =
+        std::string(folder && *folder ? folder : "/tmp") + "/vmas-stdin-XXXXXX." + extension;
     const int file = mkstemps(name.data(), static_cast<int>(extension.size() + 1));
     if (file < 0)
       throw IoError("standard input: cannot create a temporary file in " + name + ": " +

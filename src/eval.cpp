@@ -9,6 +9,7 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -303,15 +304,22 @@ class Envelope {
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     for (const auto& e : edges) cones_.emplace_back(spheres_[e[0]], spheres_[e[1]]);
+    // A face given twice adds nothing to the union but would be a solid that every sample near
+    // it is tested against once more: kept once, in the order given.
+    std::vector<std::array<int, 3>> faces;
+    std::set<std::array<int, 3>> seen;
     for (const auto& f : medial.faces) {
-      slabs_.emplace_back(spheres_[f[0]], spheres_[f[1]], spheres_[f[2]]);
+      std::array<int, 3> sorted = {f[0], f[1], f[2]};
+      std::sort(sorted.begin(), sorted.end());
+      if (seen.insert(sorted).second) faces.push_back({f[0], f[1], f[2]});
     }
+    for (const auto& f : faces) slabs_.emplace_back(spheres_[f[0]], spheres_[f[1]], spheres_[f[2]]);
     std::vector<std::uint64_t> sphere_keys;
     for (const Sphere& sphere : spheres_) sphere_keys.push_back(key_of(sphere));
     solid_keys_ = sphere_keys;
     for (const auto& e : edges)
       solid_keys_.push_back(key_of(1, {sphere_keys[e[0]], sphere_keys[e[1]]}));
-    for (const auto& f : medial.faces)
+    for (const auto& f : faces)
       solid_keys_.push_back(key_of(2, {sphere_keys[f[0]], sphere_keys[f[1]], sphere_keys[f[2]]}));
 
     for (const Sphere& s : spheres_) solid_boxes_.push_back(sphere_box(s.center, s.radius));
@@ -479,6 +487,9 @@ class Envelope {
       const auto& t = triangles_[piece - spheres - cones];
       normal = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
     }
+    // A sphere of radius 0 is a point, its one sample exact: nothing around it to refine (and
+    // no tangent plane, whose NaN points would each be measured against every triangle).
+    if (!(normal.squaredNorm() > 0.5)) return;
     const Vec3 u = normal.unitOrthogonal(), v = normal.cross(u);
     const int n = static_cast<int>(std::ceil(radius / step));
     for (int i = -n; i <= n; ++i) {

@@ -317,7 +317,8 @@ TEST_F(Cli, ConvertAndEvalTakeStandardStreams) {
   // Usage errors: a second -, - without its format, a format without -; errors name the stream.
   for (const std::string args :
        {std::string("eval - - --input-format off"), "eval - " + path("s.ply"),
-        "convert " + path("capsule.off") + " -", "convert " + path("capsule.off") + " - --format obj",
+        "convert " + path("capsule.off") + " -",
+        "convert " + path("capsule.off") + " - --format obj",
         "convert " + path("capsule.off") + " " + path("o.off") + " --format off",
         "eval " + path("capsule.off") + " " + path("s.ply") + " --errors -"}) {
     const Result r = run(args + " < " + path("capsule.off"));

@@ -608,5 +608,29 @@ TEST(EvalBounds, OutsizedPrimitivesAreSampledCoarser) {
   EXPECT_GT(result.hausdorff, 40.0);  // the far side of the big sphere
 }
 
+// Degenerate medial meshes are measured as what they are: a sphere of radius 0 is its centre (no
+// NaN from a tangent plane it does not have), a face given many times is that face.
+TEST(EvalBounds, PointSpheresAndRepeatedFacesAreMeasuredAsWhatTheyAre) {
+  const SurfaceInput shape = test::icosphere(Vec3::Zero(), 1.0, 2);
+  MedialMesh point;
+  point.spheres = {{Vec3(0.5, 0.0, 0.0), 0.0}};
+  const EvalResult at_point = evaluate(shape, point);
+  EXPECT_TRUE(std::isfinite(at_point.medial_to_surface_max));
+  EXPECT_NEAR(at_point.medial_to_surface_max, 0.5, 0.02);  // the centre is 0.5 from the surface
+  EXPECT_NEAR(at_point.hausdorff, 1.5, 0.02);              // the far side of the ball
+
+  MedialMesh once;
+  once.spheres = {
+      {Vec3(-0.3, -0.2, 0.0), 0.4}, {Vec3(0.3, -0.2, 0.0), 0.4}, {Vec3(0.0, 0.3, 0.0), 0.4}};
+  once.faces = {{0, 1, 2}};
+  MedialMesh repeated = once;
+  for (int i = 0; i < 300; ++i)
+    repeated.faces.push_back(i % 2 ? std::array<int, 3>{2, 0, 1} : once.faces[0]);
+  const EvalResult a = evaluate(shape, once), b = evaluate(shape, repeated);
+  EXPECT_EQ(a.hausdorff, b.hausdorff);
+  EXPECT_EQ(a.boundary_sample_count, b.boundary_sample_count);
+  EXPECT_EQ(a.medial_to_surface_mean, b.medial_to_surface_mean);
+}
+
 }  // namespace
 }  // namespace vmas
