@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <string>
 
 #include "vmas/error.hpp"
@@ -29,7 +28,6 @@ EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int th
       threads_(threads),
       most_spheres_(std::min(options.max_spheres, skeletonizer_->shape().size())) {
   if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
-  for (std::size_t i = 0; i < skeletonizer_->spheres().size(); ++i) keys_.push_back(next_key_++);
   publish(0.0);
   worker_ = std::thread([this] { work(); });
 }
@@ -101,28 +99,23 @@ std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_m
 
 bool EditSession::apply(const Edit& edit) {
   Skeletonizer& s = *skeletonizer_;
-  const auto id_of = [&](std::uint64_t key) {
-    const auto found = std::find(keys_.begin(), keys_.end(), key);
-    return found == keys_.end() ? -1 : static_cast<int>(found - keys_.begin());
-  };
+  const auto count = [&] { return static_cast<int>(s.spheres().size()); };
   switch (edit.kind) {
     case Edit::Kind::Remove: {
-      const int id = id_of(edit.key);
-      if (id < 0 || keys_.size() == 1) return false;
+      const int id = s.id_of(edit.key);
+      if (id < 0 || count() == 1) return false;
       s.remove_sphere(id);
-      keys_.erase(keys_.begin() + id);
       // The user chose the count: a removed sphere stays removed.
-      s.set_target_spheres(static_cast<int>(keys_.size()));
+      s.set_target_spheres(count());
       return true;
     }
     case Edit::Kind::Split:
-      if (static_cast<int>(keys_.size()) >= most_spheres_) return false;
+      if (count() >= most_spheres_) return false;
       s.add_sphere_at(edit.value);
-      keys_.push_back(next_key_++);
-      s.set_target_spheres(std::max(s.options().target_spheres, static_cast<int>(keys_.size())));
+      s.set_target_spheres(std::max(s.options().target_spheres, count()));
       return true;
     case Edit::Kind::Freeze: {
-      const int id = id_of(edit.key);
+      const int id = s.id_of(edit.key);
       if (id < 0) return false;
       s.freeze(id, edit.value != 0);
       return true;
@@ -130,15 +123,14 @@ bool EditSession::apply(const Edit& edit) {
     case Edit::Kind::Target:
       s.set_target_spheres(edit.value);
       // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
-      while (static_cast<int>(keys_.size()) > edit.value) {
-        std::vector<int> sizes(keys_.size(), 0);
+      while (count() > edit.value) {
+        std::vector<int> sizes(count(), 0);
         for (int label : s.labels()) ++sizes[label];
         int smallest = -1;
-        for (int id = 0; id < static_cast<int>(keys_.size()); ++id)
+        for (int id = 0; id < count(); ++id)
           if (!s.frozen(id) && (smallest < 0 || sizes[id] < sizes[smallest])) smallest = id;
         if (smallest < 0) break;  // every sphere left is frozen
         s.remove_sphere(smallest);
-        keys_.erase(keys_.begin() + smallest);
       }
       return true;
     case Edit::Kind::Lambda:
@@ -160,9 +152,9 @@ void EditSession::publish(double steps_per_second) {
   next.paused = paused_;
   next.target_spheres = s.options().target_spheres;
   next.lambda = s.options().lambda;
-  next.keys = keys_;
+  next.keys = s.keys();
   next.spheres = s.spheres();
-  for (std::size_t id = 0; id < keys_.size(); ++id)
+  for (std::size_t id = 0; id < s.spheres().size(); ++id)
     next.frozen.push_back(s.frozen(static_cast<int>(id)));
   next.labels = s.labels();
   next.mesh = s.medial_mesh();
@@ -180,8 +172,7 @@ void EditSession::work() {
   if (threads_ > 0) omp_set_num_threads(threads_);  // per thread: this one runs every step
 #endif
   Skeletonizer& s = *skeletonizer_;
-  double previous_error = s.total_error(), steps_per_second = 0.0;
-  int since_split = 0;
+  s.restart_schedule();
   auto last_step = Clock::now();
   for (;;) {
     std::deque<Edit> edits;
@@ -205,29 +196,18 @@ void EditSession::work() {
       else
         ++dropped_;
     }
-    if (edited) since_split = 0;
+    if (edited) s.restart_schedule();
     if (paused_) {
       publish(0.0);
       continue;
     }
-    const double error = s.step();
-    ++since_split;
-    const bool converged =
-        std::abs(previous_error - error) <= s.options().convergence * std::max(error, 1e-300);
-    previous_error = error;
-    if (s.wants_more_spheres() && (converged || since_split >= s.options().split_interval) &&
-        s.split() > 0) {
-      while (keys_.size() < s.spheres().size()) keys_.push_back(next_key_++);
-      since_split = 0;
-    }
+    const Turn turn = s.advance();
     const auto now = Clock::now();
     const double seconds = std::chrono::duration<double>(now - last_step).count();
     last_step = now;
-    steps_per_second = seconds > 0.0 ? 1.0 / seconds : 0.0;
     ++iteration_;
-    publish(steps_per_second);
-    const bool settled = converged || since_split >= s.options().max_settle_iterations;
-    if (settled && !s.wants_more_spheres()) {
+    publish(seconds > 0.0 ? 1.0 / seconds : 0.0);
+    if (turn.done) {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait_for(lock, kSettledStepPause, [&] { return stop_ || !pending_.empty(); });
     }

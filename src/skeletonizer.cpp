@@ -87,6 +87,7 @@ Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
   if (options_.project) sphere = projector_.project(sphere.center);
   spheres_.push_back(sphere);
   frozen_.push_back(false);
+  add_key();
   repartition();
 }
 
@@ -264,10 +265,38 @@ int Skeletonizer::split() {
     const int worst = worst_vertex(c);
     spheres_.push_back(projector_.ball_at(worst));
     frozen_.push_back(false);
+    add_key();
   }
   times_.split += seconds_since(start);
   if (!chosen.empty()) repartition();
   return static_cast<int>(chosen.size());
+}
+
+void Skeletonizer::restart_schedule() {
+  previous_error_ = total_error_;
+  since_split_ = 0;
+}
+
+Turn Skeletonizer::advance() {
+  Turn turn;
+  turn.error = step();
+  turn.converged =
+      std::abs(previous_error_ - turn.error) <= options_.convergence * std::max(turn.error, 1e-300);
+  previous_error_ = turn.error;
+  ++since_split_;
+  if (wants_more_spheres()) {
+    if (turn.converged || since_split_ >= options_.split_interval) {
+      turn.split = split();
+      if (turn.split > 0)
+        since_split_ = 0;
+      else
+        turn.done = turn.converged;  // nothing left that may be split
+    }
+  } else if (since_split_ >= options_.settle_iterations) {
+    // Spheres may keep trading a few vertices for ever (paper §5): done after a while.
+    turn.done = turn.converged || since_split_ >= options_.max_settle_iterations;
+  }
+  return turn;
 }
 
 RunSummary Skeletonizer::run(const ProgressCallback& progress) {
@@ -290,31 +319,14 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   const int coarse_iterations = start_coarse(progress, summary.cancelled);
   summary.iterations = coarse_iterations;
   if (summary.cancelled) return finish();
-  double previous_error = total_error_;
-  int last_split = coarse_iterations;
+  restart_schedule();
   for (int iteration = coarse_iterations + 1; iteration <= options_.max_iterations; ++iteration) {
-    const double error = step();
+    const Turn turn = advance();
     summary.iterations = iteration;
-    if (!report(Progress::Phase::Optimising, error, 0)) return finish();
-    const bool converged =
-        std::abs(previous_error - error) <= options_.convergence * std::max(error, 1e-300);
-    previous_error = error;
-    const int since_split = iteration - last_split;
-    if (wants_more_spheres()) {
-      if (converged || since_split >= options_.split_interval) {
-        if (split() > 0) {
-          last_split = iteration;
-          continue;
-        }
-        if (converged) {  // nothing left that may be split
-          summary.converged = true;
-          break;
-        }
-      }
-    } else if (since_split >= options_.settle_iterations) {
-      // Spheres may keep trading a few vertices for ever (paper §5): stop after a while.
-      summary.converged = converged;
-      if (converged || since_split >= options_.max_settle_iterations) break;
+    if (!report(Progress::Phase::Optimising, turn.error, 0)) return finish();
+    if (turn.done) {
+      summary.converged = turn.converged;
+      break;
     }
   }
   // The partition has settled; refits with a small λ let the spheres of extremities reach them
@@ -342,6 +354,8 @@ int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled
   cancelled = summary.cancelled;
   spheres_ = coarse.spheres();
   frozen_.assign(spheres_.size(), false);
+  keys_ = coarse.keys_;
+  next_key_ = coarse.next_key_;
   energies_current_ = false;
   repartition();
   times_ += coarse.times();
@@ -380,6 +394,7 @@ int Skeletonizer::add_sphere(const Sphere& sphere) {
     throw InvalidOption("a sphere needs a finite centre and a finite, non-negative radius");
   spheres_.push_back(sphere);
   frozen_.push_back(false);
+  add_key();
   repartition();
   return static_cast<int>(spheres_.size()) - 1;
 }
@@ -389,9 +404,15 @@ void Skeletonizer::remove_sphere(int id) {
   if (spheres_.size() == 1) throw InvalidOption("cannot remove the last sphere");
   spheres_.erase(spheres_.begin() + id);
   frozen_.erase(frozen_.begin() + id);
+  keys_.erase(keys_.begin() + id);
   for (int& label : labels_) label = label == id ? -1 : (label > id ? label - 1 : label);
   energies_current_ = false;
   repartition();
+}
+
+int Skeletonizer::id_of(std::uint64_t key) const {
+  const auto found = std::find(keys_.begin(), keys_.end(), key);
+  return found == keys_.end() ? -1 : static_cast<int>(found - keys_.begin());
 }
 
 void Skeletonizer::freeze(int id, bool frozen) {
@@ -431,6 +452,13 @@ void Skeletonizer::restore(const SkeletonizerState& state) {
   spheres_ = state.spheres;
   frozen_ = state.frozen;
   labels_ = state.labels;
+  if (static_cast<int>(state.keys.size()) == count) {
+    keys_ = state.keys;
+    for (std::uint64_t key : keys_) next_key_ = std::max(next_key_, key + 1);
+  } else {
+    keys_.clear();
+    for (int id = 0; id < count; ++id) add_key();
+  }
   rebuild_members();
   refresh_errors(true);
 }

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
@@ -125,6 +127,29 @@ TEST(Skeletonizer, DynamicEditingBetweenSteps) {
 
   EXPECT_THROW(skeletonizer.remove_sphere(99), InvalidOption);
   EXPECT_THROW(skeletonizer.add_sphere_at(-1), InvalidOption);
+}
+
+// A sphere keeps its key whatever is added or removed; a restored state brings its keys back.
+TEST(Skeletonizer, KeysStayWithTheirSpheres) {
+  Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(5));
+  skeletonizer.run();
+  const std::vector<std::uint64_t> keys = skeletonizer.keys();
+  ASSERT_EQ(keys.size(), 5u);
+  EXPECT_EQ(std::set<std::uint64_t>(keys.begin(), keys.end()).size(), 5u);
+  const SkeletonizerState before = skeletonizer.state();
+  const Sphere third = skeletonizer.spheres()[2];
+  skeletonizer.remove_sphere(1);
+  EXPECT_EQ(skeletonizer.id_of(keys[1]), -1);
+  ASSERT_EQ(skeletonizer.id_of(keys[2]), 1);
+  EXPECT_EQ(skeletonizer.spheres()[1].center, third.center);
+  const int added = skeletonizer.add_sphere_at(0);
+  const std::uint64_t new_key = skeletonizer.keys()[added];
+  EXPECT_EQ(std::count(keys.begin(), keys.end(), new_key), 0);  // never one used before
+  skeletonizer.step();
+  EXPECT_EQ(skeletonizer.id_of(new_key), added);
+  skeletonizer.restore(before);
+  EXPECT_EQ(skeletonizer.keys(), keys);
+  EXPECT_NE(skeletonizer.keys()[skeletonizer.add_sphere_at(3)], new_key);
 }
 
 TEST(Skeletonizer, BadOptionsAreRejected) {

@@ -4,9 +4,11 @@
 // between steps; after every step the state is published as a snapshot that any thread may
 // read. The engine of `vmas edit`; usable by any front end.
 //
-// Spheres are named by keys that stay with a sphere for its life (a Skeletonizer's sphere ids
+// Spheres are named by the Skeletonizer's keys, which stay with a sphere for its life (its ids
 // shift when one is removed), so that an edit made against an older snapshot still means the
-// sphere the user pointed at, or nothing.
+// sphere the user pointed at, or nothing. The worker follows the run schedule of
+// Skeletonizer::run (Skeletonizer::advance), restarted by every edit, and goes on after it is
+// done, more slowly, so that edits re-settle the skeleton.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -81,8 +83,6 @@ class EditSession {
   std::unique_ptr<Skeletonizer> skeletonizer_;
   const int threads_;
   const int most_spheres_;  // max_spheres, or the vertex count if fewer (read by callers)
-  std::vector<std::uint64_t> keys_;  // worker's copy, parallel to the spheres
-  std::uint64_t next_key_ = 0;
   bool paused_ = false;  // worker's copy
   int iteration_ = 0;
   std::size_t dropped_ = 0;

@@ -1,10 +1,12 @@
 #pragma once
 // The optimisation state and loop of variational medial axis sampling (paper §3): spheres,
-// the partition of the shape among them, per-cluster errors and frozen flags. Every front end
-// (CLI, benchmark, an interactive viewer) drives this object; spheres can be added, removed or
-// frozen between steps while the optimisation goes on.
+// the partition of the shape among them, per-cluster errors and frozen flags, and the run
+// schedule (advance). vmas::skeletonize runs it whole (run), EditSession turn by turn while
+// spheres are added, removed or frozen between turns.
 //
 // Sphere ids are indices into spheres(); removing a sphere shifts the later ids down by one.
+// Keys name spheres for their life: a sphere keeps its key whatever is added or removed.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -87,6 +89,17 @@ struct SkeletonizerState {
   std::vector<Sphere> spheres;
   std::vector<bool> frozen;
   std::vector<int> labels;
+  std::vector<std::uint64_t> keys;  // of the spheres (empty: new keys)
+};
+
+// One turn of the run schedule (Skeletonizer::advance).
+struct Turn {
+  double error = 0.0;      // the total error after the step
+  bool converged = false;  // it changed by at most options().convergence (relative)
+  int split = 0;           // spheres the split decision added
+  // run() stops here: no sphere is missing and the spheres have settled (converged, or
+  // max_settle_iterations steps after the last split), or spheres are missing and none can split.
+  bool done = false;
 };
 
 class Skeletonizer {
@@ -103,8 +116,15 @@ class Skeletonizer {
   // One of the refits with final_lambda that end run(); round 0 keeps the partition, later
   // rounds re-partition first.
   void final_refit(int round);
-  // Steps and splits until the target is met and the error has settled, then the final refits.
-  // A cancelled run leaves the state as it was after the last reported step.
+  // One turn of the run schedule (paper §3.4): a step, then, while spheres are missing, a split
+  // round once the error has converged or split_interval steps have gone by since the last
+  // split (or restart_schedule).
+  Turn advance();
+  // Counts the steps since the last split from 0 again: after an edit the spheres must settle
+  // anew before the schedule is done.
+  void restart_schedule();
+  // Turns until one is done, then the final refits. A cancelled run leaves the state as it was
+  // after the last reported turn.
   RunSummary run(const ProgressCallback& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
@@ -119,12 +139,14 @@ class Skeletonizer {
   void set_lambda(double lambda);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
-  SkeletonizerState state() const { return {spheres_, frozen_, labels_}; }
+  SkeletonizerState state() const { return {spheres_, frozen_, labels_, keys_}; }
   // A state of this skeletonizer (InvalidOption when it does not fit its shape).
   void restore(const SkeletonizerState& state);
 
   MedialMesh medial_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }
+  const std::vector<std::uint64_t>& keys() const { return keys_; }  // parallel to spheres()
+  int id_of(std::uint64_t key) const;  // the sphere with that key, or -1
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
   bool frozen(int id) const { return frozen_.at(id); }
@@ -150,12 +172,15 @@ class Skeletonizer {
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
   void check_id(int id) const;
+  void add_key() { keys_.push_back(next_key_++); }  // for a sphere just added
 
   Shape shape_;
   SkeletonizerOptions options_;
   MedialProjector projector_;
   std::vector<Sphere> spheres_;
   std::vector<bool> frozen_;
+  std::vector<std::uint64_t> keys_;
+  std::uint64_t next_key_ = 0;
   std::vector<int> labels_;
   std::vector<double> vertex_energies_;
   bool energies_current_ = false;  // vertex_energies_ hold E_v of every vertex's sphere as it is
@@ -163,6 +188,8 @@ class Skeletonizer {
   std::vector<double> cluster_errors_;
   std::vector<double> worst_errors_;  // max E_v / A(v) per cluster (split ranking)
   double total_error_ = 0.0;
+  double previous_error_ = 0.0;  // the schedule's: the total error one turn ago
+  int since_split_ = 0;          // ... and the steps since the last split or restart
   StageTimes times_;
 };
 
