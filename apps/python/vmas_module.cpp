@@ -1,0 +1,603 @@
+// `import vmas`: the library for Python (pybind11). NumPy arrays in and out; the options are the
+// CLI's (apps/run_options.cpp parses them, so names, defaults and messages are the same); the
+// GIL is released while vmas computes, and Ctrl-C cancels.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "../commands.hpp"
+#include "vmas/eval.hpp"
+#include "vmas/io.hpp"
+#include "vmas/vmas.hpp"
+
+namespace py = pybind11;
+namespace po = boost::program_options;
+
+namespace vmas::python {
+namespace {
+
+// --- arrays ---------------------------------------------------------------------------------
+
+// An (N, 3) array of any real dtype and memory order, read in place (no copy beyond the one
+// into vmas's own vectors).
+std::vector<Vec3> rows_of(const py::handle& object, const char* name) {
+  py::array array = py::array::ensure(object);
+  if (!array) throw py::value_error(std::string(name) + " must be an (N, 3) array of numbers");
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    std::string shape = "(";
+    for (py::ssize_t d = 0; d < array.ndim(); ++d)
+      shape += (d ? ", " : "") + std::to_string(array.shape(d));
+    throw py::value_error(std::string(name) + " must be an (N, 3) array, got shape " + shape +
+                          (array.ndim() == 1 ? ",)" : ")"));
+  }
+  std::vector<Vec3> rows(static_cast<std::size_t>(array.shape(0)));
+  const auto copy = [&](auto typed) {
+    const auto view = typed.template unchecked<2>();
+    for (py::ssize_t i = 0; i < view.shape(0); ++i)
+      rows[i] = Vec3(double(view(i, 0)), double(view(i, 1)), double(view(i, 2)));
+  };
+  if (py::isinstance<py::array_t<double>>(array))
+    copy(array.cast<py::array_t<double>>());
+  else if (py::isinstance<py::array_t<float>>(array))
+    copy(array.cast<py::array_t<float>>());
+  else if (array.dtype().kind() == 'i' || array.dtype().kind() == 'u' ||
+           array.dtype().kind() == 'f')
+    copy(py::array_t<double, py::array::forcecast>::ensure(array));
+  else
+    throw py::value_error(std::string(name) + " must hold numbers (got dtype " +
+                          std::string(py::str(array.dtype())) + ")");
+  return rows;
+}
+
+std::vector<std::array<int, 3>> faces_of(const py::handle& object) {
+  const py::array array = py::array::ensure(object);
+  if (!array || array.ndim() != 2 || array.shape(1) != 3 ||
+      (array.dtype().kind() != 'i' && array.dtype().kind() != 'u'))
+    throw py::value_error("faces must be an (F, 3) array of integers");
+  const auto indices = py::array_t<long long, py::array::forcecast>::ensure(array);
+  const auto view = indices.unchecked<2>();
+  std::vector<std::array<int, 3>> faces(static_cast<std::size_t>(view.shape(0)));
+  for (py::ssize_t f = 0; f < view.shape(0); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const long long index = view(f, c);
+      if (index < 0 || index > INT32_MAX)
+        throw py::value_error("faces: index " + std::to_string(index) + " out of range");
+      faces[f][c] = static_cast<int>(index);
+    }
+  return faces;
+}
+
+py::array_t<double> matrix(const std::vector<Vec3>& rows) {
+  py::array_t<double> out({static_cast<py::ssize_t>(rows.size()), py::ssize_t{3}});
+  auto view = out.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (int c = 0; c < 3; ++c) view(i, c) = rows[i][c];
+  return out;
+}
+
+template <std::size_t N>
+py::array_t<int> index_matrix(const std::vector<std::array<int, N>>& rows) {
+  py::array_t<int> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(N)});
+  auto view = out.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t c = 0; c < N; ++c) view(i, c) = rows[i][c];
+  return out;
+}
+
+SurfaceInput surface_of(const py::handle& points, const py::handle& normals,
+                        const py::handle& faces) {
+  SurfaceInput surface;
+  surface.points = rows_of(points, "points");
+  if (surface.points.empty()) throw py::value_error("points is empty");
+  if (!normals.is_none()) {
+    surface.normals = rows_of(normals, "normals");
+    if (surface.normals.size() != surface.points.size())
+      throw py::value_error("normals must have one row per point (" +
+                            std::to_string(surface.points.size()) + "), got " +
+                            std::to_string(surface.normals.size()));
+  }
+  if (!faces.is_none()) surface.faces = faces_of(faces);
+  return surface;
+}
+
+// --- options --------------------------------------------------------------------------------
+
+// The keyword arguments as the CLI's flags (lambda_ or "lambda" -> --lambda; True -> a flag),
+// parsed by the CLI's own parser: the same names, defaults, checks and messages.
+Options options_of(const py::dict& keywords) {
+  std::vector<std::string> words = {"vmas"};
+  for (const auto& [key, value] : keywords) {
+    std::string name = py::str(key);
+    if (!name.empty() && name.back() == '_') name.pop_back();  // lambda_: a Python keyword
+    for (char& c : name)
+      if (c == '_') c = '-';
+    if (value.is_none()) continue;
+    if (py::isinstance<py::bool_>(value)) {
+      if (value.cast<bool>()) words.push_back("--" + name);
+      continue;
+    }
+    words.push_back("--" + name);
+    words.push_back(py::str(value));
+  }
+  cli::RunOptionValues values;
+  po::options_description visible;
+  cli::add_run_options(visible, values);
+  std::vector<const char*> argv;
+  for (const std::string& word : words) argv.push_back(word.c_str());
+  try {
+    po::variables_map vm;
+    po::store(po::command_line_parser(static_cast<int>(argv.size()), argv.data())
+                  .options(visible)
+                  .style(po::command_line_style::unix_style ^
+                         po::command_line_style::allow_guessing)
+                  .run(),
+              vm);
+    po::notify(vm);
+    cli::finish_run_options(vm, values);
+  } catch (const po::error& e) {
+    throw InvalidOption(e.what());
+  }
+  return values.options;
+}
+
+// --- results --------------------------------------------------------------------------------
+
+py::dict summary_of(const Result& r) {
+  py::dict d;
+  d["iterations"] = r.summary.iterations;
+  d["spheres"] = r.summary.spheres;
+  d["converged"] = r.summary.converged;
+  d["hit_max_iterations"] = r.summary.hit_max_iterations;
+  d["error_threshold_missed"] = r.summary.error_threshold_missed;
+  d["total_error"] = r.summary.error;
+  d["measured_error_percent"] = 100.0 * r.measured_error;
+  d["enclosure"] = r.enclosure;
+  d["input_components"] = r.input_components;
+  d["skeleton_components"] = r.skeleton_components;
+  d["outliers"] = r.prepare.outliers;
+  d["smoothed"] = r.prepare.smoothed();
+  d["noise_percent"] =
+      r.prepare.diagonal > 0.0 ? 100.0 * r.prepare.noise.sigma / r.prepare.diagonal : 0.0;
+  d["thinned_from"] = r.prepare.thinned_from;
+  return d;
+}
+
+py::dict seconds_of(const Timings& t) {
+  py::dict d;
+  d["clean"] = t.clean;
+  d["prepare"] = t.prepare;
+  d["shape"] = t.shape;
+  d["partition"] = t.partition;
+  d["update"] = t.update;
+  d["projection"] = t.projection;
+  d["split"] = t.split;
+  d["refine"] = t.refine;
+  d["connectivity"] = t.connectivity;
+  d["smoothing_check"] = t.smoothing_check;
+  d["total"] = t.total;
+  return d;
+}
+
+py::list warnings_of(const std::vector<Warning>& warnings) {
+  py::list list;
+  for (const Warning& w : warnings) list.append(py::make_tuple(w.code, w.message));
+  return list;
+}
+
+py::array_t<double> radii_of(const MedialMesh& mesh) {
+  py::array_t<double> radii(static_cast<py::ssize_t>(mesh.spheres.size()));
+  auto view = radii.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < mesh.spheres.size(); ++i) view(i) = mesh.spheres[i].radius;
+  return radii;
+}
+
+py::array_t<double> centers_of(const MedialMesh& mesh) {
+  std::vector<Vec3> centers;
+  for (const Sphere& s : mesh.spheres) centers.push_back(s.center);
+  return matrix(centers);
+}
+
+// A medial mesh from a Result or from anything with centers, radii, edges and faces.
+MedialMesh medial_of(const py::handle& object) {
+  if (py::isinstance<Result>(object)) return object.cast<const Result&>().medial_mesh;
+  if (py::isinstance<MedialMesh>(object)) return object.cast<MedialMesh>();
+  MedialMesh mesh;
+  const std::vector<Vec3> centers = rows_of(object.attr("centers"), "centers");
+  const py::array_t<double, py::array::forcecast> radii =
+      py::array_t<double, py::array::forcecast>::ensure(object.attr("radii"));
+  if (!radii || radii.ndim() != 1 || radii.shape(0) != static_cast<py::ssize_t>(centers.size()))
+    throw py::value_error("radii must be an (M,) array, one per centre");
+  for (std::size_t i = 0; i < centers.size(); ++i) mesh.spheres.push_back({centers[i], radii.at(i)});
+  const py::array_t<long long, py::array::forcecast> edges =
+      py::array_t<long long, py::array::forcecast>::ensure(object.attr("edges"));
+  if (!edges || (edges.size() > 0 && (edges.ndim() != 2 || edges.shape(1) != 2)))
+    throw py::value_error("edges must be an (E, 2) array of integers");
+  for (py::ssize_t e = 0; edges.size() > 0 && e < edges.shape(0); ++e)
+    mesh.edges.push_back({static_cast<int>(edges.at(e, 0)), static_cast<int>(edges.at(e, 1))});
+  const py::object faces = object.attr("faces");
+  if (py::array::ensure(faces).size() > 0) mesh.faces = faces_of(faces);
+  return mesh;
+}
+
+// --- progress and Ctrl-C --------------------------------------------------------------------
+
+// Called from vmas in the calling thread with the GIL released: takes it, looks for Ctrl-C (a
+// pending KeyboardInterrupt cancels the run) and calls the user's callback, if any.
+struct PythonProgress {
+  py::object callback;
+  bool interrupted = false;
+
+  bool operator()(const Progress& p) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      interrupted = true;
+      return false;
+    }
+    if (callback.is_none()) return true;
+    static const char* const kPhases[] = {"preparing", "optimising", "final_refit", "refining"};
+    double fraction = 0.0;
+    if (p.phase == Progress::Phase::Optimising && p.target_spheres > 0)
+      fraction = std::min(1.0, double(p.spheres) / p.target_spheres);
+    if (p.phase == Progress::Phase::FinalRefit && p.rounds > 0) fraction = double(p.round) / p.rounds;
+    if (p.phase == Progress::Phase::Refining && p.rounds > 0) fraction = double(p.round) / p.rounds;
+    try {
+      const py::object go_on = callback(kPhases[static_cast<int>(p.phase)], fraction);
+      return go_on.is_none() || go_on.cast<bool>();
+    } catch (py::error_already_set&) {
+      interrupted = true;  // the callback raised: the run stops, the exception goes up
+      throw;
+    }
+  }
+};
+
+Result run_skeletonize(SurfaceInput surface, const Options& options, const py::object& progress) {
+  PythonProgress watch{progress};
+  try {
+    py::gil_scoped_release released;
+    return skeletonize(std::move(surface), options, std::ref(watch));
+  } catch (const Cancelled&) {
+    if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
+    throw;
+  }
+}
+
+// The stateful API: a Skeletonizer on a prepared shape (as vmas.skeletonize prepares it), its
+// results in the input's coordinates.
+struct PythonSkeletonizer {
+  PythonSkeletonizer(SurfaceInput surface, const Options& options) {
+    PreparedShape prepared = prepare_shape(std::move(surface), options);
+    frame = prepared.result.prepare.frame;
+    skeletonizer = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
+  }
+  Frame frame;
+  std::unique_ptr<Skeletonizer> skeletonizer;
+};
+
+py::dict summary_dict(const RunSummary& s) {
+  py::dict d;
+  d["iterations"] = s.iterations;
+  d["spheres"] = s.spheres;
+  d["total_error"] = s.error;
+  d["converged"] = s.converged;
+  d["hit_max_iterations"] = s.hit_max_iterations;
+  d["cancelled"] = s.cancelled;
+  d["error_threshold_missed"] = s.error_threshold_missed;
+  return d;
+}
+
+}  // namespace
+}  // namespace vmas::python
+
+PYBIND11_MODULE(vmas, m) {
+  using namespace vmas;
+  using namespace vmas::python;
+  m.doc() =
+      "Skeletons by variational medial axis sampling: a point cloud (with or without normals) "
+      "or a triangle mesh in, a medial mesh of spheres, edges and triangles out.";
+  m.attr("__version__") = version();
+
+  // Errors: the CLI's messages, as Python exceptions.
+  static py::exception<Error> error(m, "Error");
+  static py::exception<InvalidInput> invalid_input(m, "InvalidInput", PyExc_ValueError);
+  static py::exception<InvalidOption> invalid_option(m, "InvalidOption", PyExc_ValueError);
+  static py::exception<IoError> io_error(m, "IoError", PyExc_OSError);
+  static py::exception<Cancelled> cancelled(m, "Cancelled");
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InvalidOption& e) {
+      invalid_option(e.what());
+    } catch (const InvalidInput& e) {
+      invalid_input(e.what());
+    } catch (const IoError& e) {
+      io_error(e.what());
+    } catch (const Cancelled& e) {
+      cancelled(e.what());
+    } catch (const Error& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<SurfaceInput>(m, "Surface", "A shape as vmas reads it: points, normals, faces.")
+      .def_property_readonly("points", [](const SurfaceInput& s) { return matrix(s.points); },
+                             "(N, 3) float64")
+      .def_property_readonly(
+          "normals",
+          [](const SurfaceInput& s) -> py::object {
+            return s.normals.empty() ? py::object(py::none()) : py::object(matrix(s.normals));
+          },
+          "(N, 3) float64, or None")
+      .def_property_readonly("faces",
+                             [](const SurfaceInput& s) -> py::object {
+                               return s.faces.empty() ? py::object(py::none())
+                                                      : py::object(index_matrix(s.faces));
+                             },
+                             "(F, 3) int32, or None for a cloud")
+      .def("__repr__", [](const SurfaceInput& s) {
+        return "<vmas.Surface: " + std::to_string(s.points.size()) + " points, " +
+               std::to_string(s.faces.size()) + " faces" + (s.has_normals() ? ", normals>" : ">");
+      });
+
+  py::class_<MedialMesh>(m, "MedialMesh", "Spheres joined by edges and triangles.")
+      .def_property_readonly("centers", &centers_of, "(M, 3) float64")
+      .def_property_readonly("radii", &radii_of, "(M,) float64")
+      .def_property_readonly("edges", [](const MedialMesh& mm) { return index_matrix(mm.edges); },
+                             "(E, 2) int32")
+      .def_property_readonly("faces", [](const MedialMesh& mm) { return index_matrix(mm.faces); },
+                             "(T, 3) int32");
+
+  py::class_<Result>(m, "Result", "What vmas.skeletonize gives.")
+      .def_property_readonly("medial_mesh", [](const Result& r) { return r.medial_mesh; })
+      .def_property_readonly("centers", [](const Result& r) { return centers_of(r.medial_mesh); },
+                             "(M, 3) float64: the spheres' centres")
+      .def_property_readonly("radii", [](const Result& r) { return radii_of(r.medial_mesh); },
+                             "(M,) float64")
+      .def_property_readonly("edges", [](const Result& r) { return index_matrix(r.medial_mesh.edges); },
+                             "(E, 2) int32: indices into centers")
+      .def_property_readonly("faces", [](const Result& r) { return index_matrix(r.medial_mesh.faces); },
+                             "(T, 3) int32: indices into centers")
+      .def_property_readonly(
+          "labels",
+          [](const Result& r) { return py::array_t<int>(r.labels.size(), r.labels.data()); },
+          "(N,) int32: the sphere of every input point, -1 for a dropped one")
+      .def_property_readonly("warnings", [](const Result& r) { return warnings_of(r.warnings); },
+                             "[(code, message)]: what the caller should know")
+      .def_property_readonly("summary", &summary_of, "the run's figures (dict)")
+      .def_property_readonly("seconds", [](const Result& r) { return seconds_of(r.seconds); },
+                             "time per stage (dict)")
+      .def("to_dict",
+           [](const Result& r) {
+             py::dict d;
+             d["centers"] = centers_of(r.medial_mesh);
+             d["radii"] = radii_of(r.medial_mesh);
+             d["edges"] = index_matrix(r.medial_mesh.edges);
+             d["faces"] = index_matrix(r.medial_mesh.faces);
+             d["labels"] = py::array_t<int>(r.labels.size(), r.labels.data());
+             d["warnings"] = warnings_of(r.warnings);
+             d["summary"] = summary_of(r);
+             d["seconds"] = seconds_of(r.seconds);
+             return d;
+           },
+           "everything as a dict of arrays, lists and dicts")
+      .def("__repr__", [](const Result& r) {
+        return "<vmas.Result: " + std::to_string(r.medial_mesh.spheres.size()) + " spheres, " +
+               std::to_string(r.medial_mesh.edges.size()) + " edges, " +
+               std::to_string(r.medial_mesh.faces.size()) + " faces>";
+      });
+
+  using PySk = PythonSkeletonizer;
+  py::class_<PySk>(m, "Skeletonizer",
+                   "The optimisation, step by step, editable between steps (the paper's dynamic "
+                   "editing). Vertex indices are those of the prepared shape (`points`).")
+      .def(py::init([](py::object points, py::object normals, py::object faces,
+                       py::object spheres, py::object error, int threads, py::kwargs options) {
+             py::dict keywords;
+             for (const auto& [key, value] : options) keywords[key] = value;
+             keywords["spheres"] = spheres;
+             keywords["error"] = error;
+             keywords["threads"] = threads;
+             SurfaceInput surface = py::isinstance<SurfaceInput>(points) && normals.is_none() &&
+                                            faces.is_none()
+                                        ? points.cast<SurfaceInput>()
+                                        : surface_of(points, normals, faces);
+             const Options parsed = options_of(keywords);
+             py::gil_scoped_release released;
+             return std::make_unique<PySk>(std::move(surface), parsed);
+           }),
+           py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
+           py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
+           py::arg("threads") = 0,
+           "Prepares the shape as vmas.skeletonize does (same arguments and options) and starts "
+           "from one sphere.")
+      .def(
+          "step",
+          [](PySk& p) {
+            py::gil_scoped_release released;
+            return p.skeletonizer->step();
+          },
+          "One partition + update + projection step; returns the total error.")
+      .def(
+          "advance",
+          [](PySk& p) {
+            Turn turn;
+            {
+              py::gil_scoped_release released;
+              turn = p.skeletonizer->advance();
+            }
+            py::dict d;
+            d["error"] = turn.error;
+            d["converged"] = turn.converged;
+            d["split"] = turn.split;
+            d["done"] = turn.done;
+            return d;
+          },
+          "One turn of run()'s schedule: a step, then the split decision (dict).")
+      .def(
+          "run",
+          [](PySk& p, py::object progress) {
+            PythonProgress watch{progress};
+            RunSummary summary;
+            {
+              py::gil_scoped_release released;
+              summary = p.skeletonizer->run(std::ref(watch));
+            }
+            if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
+            return summary_dict(summary);
+          },
+          py::arg("progress") = py::none(),
+          "Turns until done, then the final refits (without the worst-case refinement of "
+          "vmas.skeletonize); returns the summary (dict).")
+      .def(
+          "split",
+          [](PySk& p) {
+            py::gil_scoped_release released;
+            return p.skeletonizer->split();
+          },
+          "One split round; returns the spheres added.")
+      .def(
+          "add_sphere",
+          [](PySk& p, int vertex) {
+            py::gil_scoped_release released;
+            return p.skeletonizer->add_sphere_at(vertex);
+          },
+          py::arg("vertex"), "A sphere at the shrinking ball of `vertex`; returns its id.")
+      .def(
+          "remove_sphere",
+          [](PySk& p, int id) {
+            py::gil_scoped_release released;
+            p.skeletonizer->remove_sphere(id);
+          },
+          py::arg("id"), "Removes sphere `id` (later ids shift down by one; keys stay).")
+      .def(
+          "freeze", [](PySk& p, int id, bool frozen) { p.skeletonizer->freeze(id, frozen); },
+          py::arg("id"), py::arg("frozen") = true,
+          "A frozen sphere is neither moved, split nor removed by the optimisation.")
+      .def(
+          "medial_mesh", [](const PySk& p) { return p.frame.to_input(p.skeletonizer->medial_mesh()); },
+          "The medial mesh now, in the input's coordinates.")
+      .def_property_readonly(
+          "points", [](const PySk& p) { return matrix(p.skeletonizer->shape().points); },
+          "(V, 3): the prepared shape's vertices (working frame)")
+      .def_property_readonly(
+          "labels",
+          [](const PySk& p) {
+            const std::vector<int>& labels = p.skeletonizer->labels();
+            return py::array_t<int>(labels.size(), labels.data());
+          },
+          "(V,) int32: the sphere of every prepared vertex")
+      .def_property_readonly(
+          "keys",
+          [](const PySk& p) {
+            const auto& keys = p.skeletonizer->keys();
+            return py::array_t<std::uint64_t>(keys.size(), keys.data());
+          },
+          "(M,) uint64: a key per sphere that stays with it for its life")
+      .def_property_readonly(
+          "total_error", [](const PySk& p) { return p.skeletonizer->total_error(); })
+      .def_property_readonly("spheres", [](const PySk& p) {
+        return static_cast<int>(p.skeletonizer->spheres().size());
+      });
+
+  m.def(
+      "skeletonize",
+      [](py::object points, py::object normals, py::object faces, py::object spheres,
+         py::object error, int threads, py::object progress, py::kwargs options) {
+        py::dict keywords;
+        for (const auto& [key, value] : options) keywords[key] = value;
+        keywords["spheres"] = spheres;
+        keywords["error"] = error;
+        keywords["threads"] = threads;
+        SurfaceInput surface = py::isinstance<SurfaceInput>(points) && normals.is_none() &&
+                                       faces.is_none()
+                                   ? points.cast<SurfaceInput>()
+                                   : surface_of(points, normals, faces);
+        return run_skeletonize(std::move(surface), options_of(keywords), progress);
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
+      py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
+      py::arg("threads") = 0, py::arg("progress") = py::none(),
+      R"(Skeletonizes a point cloud or a mesh, exactly as `vmas skeletonize` does.
+
+points:   (N, 3) array of float32/float64 (any memory order; NaN rows are dropped), or a
+          vmas.Surface from vmas.read
+normals:  (N, 3) array, or None (estimated and oriented outward)
+faces:    (F, 3) integer array for a triangle mesh, or None for a cloud
+spheres:  spheres to produce (default 100 when error is None), or
+error:    split until every cluster's RMS error is below this fraction of the diagonal
+threads:  OpenMP threads (0: all cores)
+progress: callable(phase, fraction) -> bool, called from this thread; False cancels
+options:  every option of `vmas skeletonize --help`, spelled with '_' for '-': lambda_ (or
+          **{"lambda": 0.1}), final_lambda, final_rounds, refine_moves, k, normal_k,
+          max_points, denoise ("auto", "off", 0.005 or "0.5%"), estimate_normals=True,
+          orient_normals=True, no_projection=True, ...
+
+Returns a vmas.Result. Raises vmas.InvalidOption (a ValueError naming the option),
+vmas.InvalidInput (data that cannot give the skeleton asked for), ValueError for arrays of the
+wrong shape, KeyboardInterrupt on Ctrl-C.)");
+
+  m.def(
+      "read",
+      [](const std::string& path) {
+        py::gil_scoped_release released;
+        return read_surface_as_stored(path);
+      },
+      py::arg("path"),
+      "Reads a shape (.off .ply .obj .xyz .txt .pcd) as `vmas skeletonize` does: every point "
+      "as stored, so that Result.labels index the file's points. Raises vmas.IoError (an "
+      "OSError) naming the file.");
+
+  m.def(
+      "write",
+      [](const std::string& path, py::object medial) {
+        const MedialMesh mesh = medial_of(medial);
+        py::gil_scoped_release released;
+        write_medial_mesh(path, mesh);
+      },
+      py::arg("path"), py::arg("medial"),
+      "Writes a medial mesh (a Result, a MedialMesh or anything with centers, radii, edges, "
+      "faces) as .ply or .ma, atomically, as the CLI writes it.");
+
+  m.def(
+      "read_medial",
+      [](const std::string& path) {
+        py::gil_scoped_release released;
+        return read_medial_mesh(path);
+      },
+      py::arg("path"), "Reads a medial mesh (.ply or .ma).");
+
+  m.def(
+      "evaluate",
+      [](py::object shape, py::object medial, py::object faces) {
+        const SurfaceInput surface = py::isinstance<SurfaceInput>(shape)
+                                         ? shape.cast<SurfaceInput>()
+                                         : surface_of(shape, py::none(), faces);
+        const MedialMesh mesh = medial_of(medial);
+        EvalResult r;
+        {
+          py::gil_scoped_release released;
+          SurfaceInput cleaned = surface;
+          clean_surface(cleaned);
+          r = evaluate(cleaned, mesh);
+        }
+        py::dict d;
+        d["diagonal"] = r.diagonal;
+        d["hausdorff_percent"] = r.percent(r.hausdorff);
+        d["surface_to_medial_max_percent"] = r.percent(r.surface_to_medial_max);
+        d["surface_to_medial_mean_percent"] = r.percent(r.surface_to_medial_mean);
+        d["medial_to_surface_max_percent"] = r.percent(r.medial_to_surface_max);
+        d["medial_to_surface_mean_percent"] = r.percent(r.medial_to_surface_mean);
+        d["surface_samples"] = r.surface_sample_count;
+        d["boundary_samples"] = r.boundary_sample_count;
+        return d;
+      },
+      py::arg("shape"), py::arg("medial"), py::arg("faces") = py::none(),
+      "The figures of `vmas eval`: the two-sided Hausdorff distance between a shape (a "
+      "vmas.Surface, or an (N, 3) array and optional faces) and the reconstruction of a medial "
+      "mesh, in % of the shape's diagonal (dict).");
+}

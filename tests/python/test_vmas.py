@@ -1,0 +1,224 @@
+"""`import vmas`: arrays in every dtype and order, bad arrays, meshes and clouds, options, files,
+the same bytes as the CLI, Ctrl-C, and no leak. Run by ctest (PYTHONPATH=build/python)."""
+
+import os
+import resource
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import vmas
+
+VMAS_CLI = os.environ.get("VMAS_CLI", "")
+CORPUS = os.path.join(os.path.dirname(__file__), "..", "corpus")
+
+
+def sphere_points(n, seed=1):
+    p = np.random.default_rng(seed).normal(size=(n, 3))
+    return p / np.linalg.norm(p, axis=1)[:, None]
+
+
+def capsule_points(n, seed=2):
+    """Points on a capsule of radius 0.2 along x from -0.5 to 0.5, and their outward normals."""
+    rng = np.random.default_rng(seed)
+    points, normals = [], []
+    while len(points) < n:
+        q = rng.uniform([-0.7, -0.2, -0.2], [0.7, 0.2, 0.2])
+        axis = np.array([np.clip(q[0], -0.5, 0.5), 0.0, 0.0])
+        d = q - axis
+        if np.linalg.norm(d) < 1e-9:
+            continue
+        normal = d / np.linalg.norm(d)
+        points.append(axis + 0.2 * normal)
+        normals.append(normal)
+    return np.array(points), np.array(normals)
+
+
+def test_every_real_dtype_and_order_gives_the_same_skeleton():
+    points, normals = capsule_points(3000)
+    reference = vmas.skeletonize(points, normals, spheres=6, threads=1)
+    for variant in (points.astype(np.float32), np.asfortranarray(points), points[::1].copy(order="F"),
+                    np.ascontiguousarray(points)):
+        if variant.dtype == np.float32:
+            continue  # float32 rounds the coordinates: checked below for the sphere count only
+        result = vmas.skeletonize(variant, normals, spheres=6, threads=1)
+        np.testing.assert_array_equal(result.centers, reference.centers)
+    single = vmas.skeletonize(points.astype(np.float32), normals.astype(np.float32), spheres=6)
+    assert single.centers.shape == (6, 3)
+    assert np.abs(single.centers[:, 1:]).max() < 0.05  # on the capsule's axis
+    as_ints = vmas.skeletonize((points * 1000).astype(np.int64), spheres=4)
+    assert as_ints.centers.shape == (4, 3)
+
+
+def test_result_arrays_and_dicts():
+    points, normals = capsule_points(2000)
+    result = vmas.skeletonize(points, normals, spheres=5)
+    assert result.centers.shape == (5, 3) and result.centers.dtype == np.float64
+    assert result.radii.shape == (5,) and np.all(result.radii > 0.1) and np.all(result.radii < 0.3)
+    assert result.edges.ndim == 2 and result.edges.shape[1] == 2
+    assert result.faces.ndim == 2 and result.faces.shape[1] == 3
+    assert result.labels.shape == (2000,) and set(np.unique(result.labels)) <= set(range(5))
+    assert result.summary["spheres"] == 5
+    assert result.seconds["total"] > 0
+    d = result.to_dict()
+    assert set(d) >= {"centers", "radii", "edges", "faces", "labels", "warnings", "summary"}
+    assert all(isinstance(w, tuple) and len(w) == 2 for w in result.warnings)
+
+
+def test_nan_points_are_dropped_and_labelled_minus_one():
+    points = sphere_points(1500)
+    points[[3, 700, 1499]] = np.nan
+    result = vmas.skeletonize(points, spheres=2)
+    assert list(result.labels[[3, 700, 1499]]) == [-1, -1, -1]
+    assert (result.labels >= 0).sum() == 1497
+
+
+@pytest.mark.parametrize("bad", [np.zeros((10, 2)), np.zeros((0, 3)), np.zeros(30),
+                                 np.zeros((4, 3, 1)), [[0, 0, 0], [1, 1]], "points",
+                                 np.array([["a", "b", "c"]])])
+def test_bad_arrays_are_value_errors(bad):
+    with pytest.raises(ValueError):
+        vmas.skeletonize(bad, spheres=2)
+
+
+def test_normals_and_faces_must_fit():
+    points = sphere_points(100)
+    with pytest.raises(ValueError, match="one row per point"):
+        vmas.skeletonize(points, points[:50], spheres=2)
+    with pytest.raises(ValueError):
+        vmas.skeletonize(points, faces=np.array([[0, 1, 2.5]]), spheres=2)
+    with pytest.raises(ValueError):
+        vmas.skeletonize(points, faces=np.array([[0, 1, 500]]), spheres=2)
+
+
+def test_options_are_the_clis_with_its_messages():
+    points = sphere_points(800)
+    with pytest.raises(vmas.InvalidOption, match="lambda"):
+        vmas.skeletonize(points, spheres=3, lambda_=-1)
+    with pytest.raises(ValueError, match="lambda"):
+        vmas.skeletonize(points, spheres=3, **{"lambda": -1})
+    with pytest.raises(ValueError, match="bogus"):
+        vmas.skeletonize(points, spheres=3, bogus=1)
+    with pytest.raises(ValueError, match="either --spheres or --error"):
+        vmas.skeletonize(points, spheres=3, error=0.01)
+    with pytest.raises(ValueError, match="denoise"):
+        vmas.skeletonize(points, spheres=3, denoise="much")
+    with pytest.raises(vmas.InvalidInput):
+        vmas.skeletonize(points[:5], spheres=40)
+    fine = vmas.skeletonize(points, spheres=3, lambda_=0.1, denoise="off", final_rounds=0,
+                            no_projection=False, estimate_normals=True)
+    assert fine.centers.shape == (3, 3)
+
+
+def test_a_mesh_stays_a_mesh_and_files_round_trip(tmp_path):
+    surface = vmas.read(os.path.join(CORPUS, "seed_icosphere.off"))
+    assert surface.points.shape == (42, 3) and surface.faces.shape == (80, 3)
+    from_surface = vmas.skeletonize(surface, spheres=4)
+    from_arrays = vmas.skeletonize(surface.points, faces=surface.faces, spheres=4)
+    np.testing.assert_array_equal(from_surface.centers, from_arrays.centers)
+    assert from_surface.summary["enclosure"] == pytest.approx(1.0, abs=0.05)
+    path = str(tmp_path / "s.ply")
+    vmas.write(path, from_surface)
+    back = vmas.read_medial(path)
+    np.testing.assert_allclose(back.centers, from_surface.centers, rtol=1e-6)
+    figures = vmas.evaluate(surface, from_surface)
+    assert 0 < figures["hausdorff_percent"] < 20
+    with pytest.raises(OSError, match="no such file"):
+        vmas.read(str(tmp_path / "missing.ply"))
+    with pytest.raises(OSError):
+        vmas.write(str(tmp_path / "no" / "folder.ply"), from_surface)
+
+
+@pytest.mark.skipif(not VMAS_CLI, reason="VMAS_CLI (the vmas binary) not given")
+def test_the_same_bytes_as_the_cli(tmp_path):
+    for name, options in (("seed_icosphere.off", ["--spheres", "5"]),
+                          ("seed_sphere_normals.xyz", ["--spheres", "3", "--lambda", "0.1"])):
+        source = os.path.join(CORPUS, name)
+        cli = str(tmp_path / "cli.ply")
+        subprocess.run([VMAS_CLI, "skeletonize", source, "-o", cli, "-q"] + options, check=True)
+        keywords = {options[i][2:].replace("-", "_"): float(options[i + 1])
+                    for i in range(0, len(options), 2)}
+        keywords["spheres"] = int(keywords["spheres"])
+        mine = str(tmp_path / "py.ply")
+        vmas.write(mine, vmas.skeletonize(vmas.read(source), **keywords))
+        assert open(cli, "rb").read() == open(mine, "rb").read(), name
+
+
+def test_progress_is_called_and_can_cancel():
+    points = sphere_points(3000)
+    phases = []
+    vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phases.append((phase, f)))
+    assert {p for p, _ in phases} >= {"preparing", "optimising", "final_refit"}
+    assert all(0.0 <= f <= 1.0 for _, f in phases)
+    with pytest.raises(vmas.Cancelled):
+        vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phase == "preparing")
+
+    def fails(phase, fraction):
+        raise RuntimeError("from the callback")
+    with pytest.raises(RuntimeError, match="from the callback"):
+        vmas.skeletonize(points, spheres=8, progress=fails)
+
+
+def test_ctrl_c_cancels_within_a_second():
+    script = (
+        "import numpy as np, sys, time, vmas\n"
+        "p = np.random.default_rng(0).normal(size=(200000, 3))\n"
+        "print('go', flush=True)\n"
+        "try:\n"
+        "    vmas.skeletonize(p, spheres=3000, denoise='off')\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', time.monotonic(), flush=True)\n")
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                             env=dict(os.environ))
+    assert child.stdout.readline().strip() == "go"
+    time.sleep(3.0)  # well into the run
+    sent = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=30)
+    assert out.startswith("interrupted"), out
+    assert float(out.split()[1]) - sent < 1.0
+
+
+def test_no_leak_over_many_calls():
+    points = sphere_points(300)
+
+    def rss_kb():
+        return int(open("/proc/self/statm").read().split()[1]) * resource.getpagesize() // 1024
+    for _ in range(100):
+        vmas.skeletonize(points, spheres=2, threads=1).to_dict()
+    before = rss_kb()
+    for _ in range(1000):
+        vmas.skeletonize(points, spheres=2, threads=1).to_dict()
+    assert rss_kb() < before * 1.10 + 1024
+
+
+def test_the_editing_loop_of_the_paper():
+    points, normals = capsule_points(3000)
+    skeletonizer = vmas.Skeletonizer(points, normals, spheres=5, threads=1)
+    assert skeletonizer.spheres == 1
+    summary = skeletonizer.run()
+    assert summary["spheres"] == 5 and not summary["cancelled"]
+    keys = list(skeletonizer.keys)
+    added = skeletonizer.add_sphere(17)
+    assert skeletonizer.spheres == 6 and added == 5
+    skeletonizer.freeze(0)
+    kept = skeletonizer.medial_mesh().centers[0].copy()
+    for _ in range(5):
+        skeletonizer.step()
+    np.testing.assert_array_equal(skeletonizer.medial_mesh().centers[0], kept)
+    skeletonizer.remove_sphere(1)
+    assert keys[1] not in list(skeletonizer.keys) and keys[2] == skeletonizer.keys[1]
+    assert skeletonizer.split() >= 0
+    turn = skeletonizer.advance()
+    assert set(turn) == {"error", "converged", "split", "done"}
+    mesh = skeletonizer.medial_mesh()
+    assert mesh.centers.shape[0] == skeletonizer.spheres
+    assert skeletonizer.labels.shape == (skeletonizer.points.shape[0],)
+    with pytest.raises(vmas.InvalidOption):
+        skeletonizer.remove_sphere(99)
+    with pytest.raises(vmas.InvalidOption):
+        skeletonizer.add_sphere(-1)
