@@ -132,12 +132,12 @@ Options options_of(const py::dict& keywords) {
   for (const std::string& word : words) argv.push_back(word.c_str());
   try {
     po::variables_map vm;
-    po::store(po::command_line_parser(static_cast<int>(argv.size()), argv.data())
-                  .options(visible)
-                  .style(po::command_line_style::unix_style ^
-                         po::command_line_style::allow_guessing)
-                  .run(),
-              vm);
+    po::store(
+        po::command_line_parser(static_cast<int>(argv.size()), argv.data())
+            .options(visible)
+            .style(po::command_line_style::unix_style ^ po::command_line_style::allow_guessing)
+            .run(),
+        vm);
     po::notify(vm);
     cli::finish_run_options(vm, values);
   } catch (const po::error& e) {
@@ -146,16 +146,41 @@ Options options_of(const py::dict& keywords) {
   return values.options;
 }
 
+// The surface and options of a call: a vmas.Surface, or arrays; spheres, error and threads
+// joined to the other keywords.
+struct Call {
+  SurfaceInput surface;
+  Options options;
+};
+Call call_of(const py::object& points, const py::object& normals, const py::object& faces,
+             const py::object& spheres, const py::object& error, int threads,
+             const py::kwargs& options) {
+  py::dict keywords;
+  for (const auto& [key, value] : options) keywords[key] = value;
+  keywords["spheres"] = spheres;
+  keywords["error"] = error;
+  keywords["threads"] = threads;
+  const bool given = py::isinstance<SurfaceInput>(points) && normals.is_none() && faces.is_none();
+  return {given ? points.cast<SurfaceInput>() : surface_of(points, normals, faces),
+          options_of(keywords)};
+}
+
 // --- results --------------------------------------------------------------------------------
 
-py::dict summary_of(const Result& r) {
+py::dict summary_dict(const RunSummary& s) {
   py::dict d;
-  d["iterations"] = r.summary.iterations;
-  d["spheres"] = r.summary.spheres;
-  d["converged"] = r.summary.converged;
-  d["hit_max_iterations"] = r.summary.hit_max_iterations;
-  d["error_threshold_missed"] = r.summary.error_threshold_missed;
-  d["total_error"] = r.summary.error;
+  d["iterations"] = s.iterations;
+  d["spheres"] = s.spheres;
+  d["total_error"] = s.error;
+  d["converged"] = s.converged;
+  d["hit_max_iterations"] = s.hit_max_iterations;
+  d["cancelled"] = s.cancelled;
+  d["error_threshold_missed"] = s.error_threshold_missed;
+  return d;
+}
+
+py::dict summary_of(const Result& r) {
+  py::dict d = summary_dict(r.summary);
   d["measured_error_percent"] = 100.0 * r.measured_error;
   d["enclosure"] = r.enclosure;
   d["input_components"] = r.input_components;
@@ -213,7 +238,8 @@ MedialMesh medial_of(const py::handle& object) {
       py::array_t<double, py::array::forcecast>::ensure(object.attr("radii"));
   if (!radii || radii.ndim() != 1 || radii.shape(0) != static_cast<py::ssize_t>(centers.size()))
     throw py::value_error("radii must be an (M,) array, one per centre");
-  for (std::size_t i = 0; i < centers.size(); ++i) mesh.spheres.push_back({centers[i], radii.at(i)});
+  for (std::size_t i = 0; i < centers.size(); ++i)
+    mesh.spheres.push_back({centers[i], radii.at(i)});
   const py::array_t<long long, py::array::forcecast> edges =
       py::array_t<long long, py::array::forcecast>::ensure(object.attr("edges"));
   if (!edges || (edges.size() > 0 && (edges.ndim() != 2 || edges.shape(1) != 2)))
@@ -244,7 +270,8 @@ struct PythonProgress {
     double fraction = 0.0;
     if (p.phase == Progress::Phase::Optimising && p.target_spheres > 0)
       fraction = std::min(1.0, double(p.spheres) / p.target_spheres);
-    if (p.phase == Progress::Phase::FinalRefit && p.rounds > 0) fraction = double(p.round) / p.rounds;
+    if (p.phase == Progress::Phase::FinalRefit && p.rounds > 0)
+      fraction = double(p.round) / p.rounds;
     if (p.phase == Progress::Phase::Refining && p.rounds > 0) fraction = double(p.round) / p.rounds;
     try {
       const py::object go_on = callback(kPhases[static_cast<int>(p.phase)], fraction);
@@ -278,18 +305,6 @@ struct PythonSkeletonizer {
   Frame frame;
   std::unique_ptr<Skeletonizer> skeletonizer;
 };
-
-py::dict summary_dict(const RunSummary& s) {
-  py::dict d;
-  d["iterations"] = s.iterations;
-  d["spheres"] = s.spheres;
-  d["total_error"] = s.error;
-  d["converged"] = s.converged;
-  d["hit_max_iterations"] = s.hit_max_iterations;
-  d["cancelled"] = s.cancelled;
-  d["error_threshold_missed"] = s.error_threshold_missed;
-  return d;
-}
 
 }  // namespace
 }  // namespace vmas::python
@@ -325,20 +340,20 @@ PYBIND11_MODULE(vmas, m) {
   });
 
   py::class_<SurfaceInput>(m, "Surface", "A shape as vmas reads it: points, normals, faces.")
-      .def_property_readonly("points", [](const SurfaceInput& s) { return matrix(s.points); },
-                             "(N, 3) float64")
+      .def_property_readonly(
+          "points", [](const SurfaceInput& s) { return matrix(s.points); }, "(N, 3) float64")
       .def_property_readonly(
           "normals",
           [](const SurfaceInput& s) -> py::object {
             return s.normals.empty() ? py::object(py::none()) : py::object(matrix(s.normals));
           },
           "(N, 3) float64, or None")
-      .def_property_readonly("faces",
-                             [](const SurfaceInput& s) -> py::object {
-                               return s.faces.empty() ? py::object(py::none())
-                                                      : py::object(index_matrix(s.faces));
-                             },
-                             "(F, 3) int32, or None for a cloud")
+      .def_property_readonly(
+          "faces",
+          [](const SurfaceInput& s) -> py::object {
+            return s.faces.empty() ? py::object(py::none()) : py::object(index_matrix(s.faces));
+          },
+          "(F, 3) int32, or None for a cloud")
       .def("__repr__", [](const SurfaceInput& s) {
         return "<vmas.Surface: " + std::to_string(s.points.size()) + " points, " +
                std::to_string(s.faces.size()) + " faces" + (s.has_normals() ? ", normals>" : ">");
@@ -347,44 +362,49 @@ PYBIND11_MODULE(vmas, m) {
   py::class_<MedialMesh>(m, "MedialMesh", "Spheres joined by edges and triangles.")
       .def_property_readonly("centers", &centers_of, "(M, 3) float64")
       .def_property_readonly("radii", &radii_of, "(M,) float64")
-      .def_property_readonly("edges", [](const MedialMesh& mm) { return index_matrix(mm.edges); },
-                             "(E, 2) int32")
-      .def_property_readonly("faces", [](const MedialMesh& mm) { return index_matrix(mm.faces); },
-                             "(T, 3) int32");
+      .def_property_readonly(
+          "edges", [](const MedialMesh& mm) { return index_matrix(mm.edges); }, "(E, 2) int32")
+      .def_property_readonly(
+          "faces", [](const MedialMesh& mm) { return index_matrix(mm.faces); }, "(T, 3) int32");
 
   py::class_<Result>(m, "Result", "What vmas.skeletonize gives.")
       .def_property_readonly("medial_mesh", [](const Result& r) { return r.medial_mesh; })
-      .def_property_readonly("centers", [](const Result& r) { return centers_of(r.medial_mesh); },
-                             "(M, 3) float64: the spheres' centres")
-      .def_property_readonly("radii", [](const Result& r) { return radii_of(r.medial_mesh); },
-                             "(M,) float64")
-      .def_property_readonly("edges", [](const Result& r) { return index_matrix(r.medial_mesh.edges); },
-                             "(E, 2) int32: indices into centers")
-      .def_property_readonly("faces", [](const Result& r) { return index_matrix(r.medial_mesh.faces); },
-                             "(T, 3) int32: indices into centers")
+      .def_property_readonly(
+          "centers", [](const Result& r) { return centers_of(r.medial_mesh); },
+          "(M, 3) float64: the spheres' centres")
+      .def_property_readonly(
+          "radii", [](const Result& r) { return radii_of(r.medial_mesh); }, "(M,) float64")
+      .def_property_readonly(
+          "edges", [](const Result& r) { return index_matrix(r.medial_mesh.edges); },
+          "(E, 2) int32: indices into centers")
+      .def_property_readonly(
+          "faces", [](const Result& r) { return index_matrix(r.medial_mesh.faces); },
+          "(T, 3) int32: indices into centers")
       .def_property_readonly(
           "labels",
           [](const Result& r) { return py::array_t<int>(r.labels.size(), r.labels.data()); },
           "(N,) int32: the sphere of every input point, -1 for a dropped one")
-      .def_property_readonly("warnings", [](const Result& r) { return warnings_of(r.warnings); },
-                             "[(code, message)]: what the caller should know")
+      .def_property_readonly(
+          "warnings", [](const Result& r) { return warnings_of(r.warnings); },
+          "[(code, message)]: what the caller should know")
       .def_property_readonly("summary", &summary_of, "the run's figures (dict)")
-      .def_property_readonly("seconds", [](const Result& r) { return seconds_of(r.seconds); },
-                             "time per stage (dict)")
-      .def("to_dict",
-           [](const Result& r) {
-             py::dict d;
-             d["centers"] = centers_of(r.medial_mesh);
-             d["radii"] = radii_of(r.medial_mesh);
-             d["edges"] = index_matrix(r.medial_mesh.edges);
-             d["faces"] = index_matrix(r.medial_mesh.faces);
-             d["labels"] = py::array_t<int>(r.labels.size(), r.labels.data());
-             d["warnings"] = warnings_of(r.warnings);
-             d["summary"] = summary_of(r);
-             d["seconds"] = seconds_of(r.seconds);
-             return d;
-           },
-           "everything as a dict of arrays, lists and dicts")
+      .def_property_readonly(
+          "seconds", [](const Result& r) { return seconds_of(r.seconds); }, "time per stage (dict)")
+      .def(
+          "to_dict",
+          [](const Result& r) {
+            py::dict d;
+            d["centers"] = centers_of(r.medial_mesh);
+            d["radii"] = radii_of(r.medial_mesh);
+            d["edges"] = index_matrix(r.medial_mesh.edges);
+            d["faces"] = index_matrix(r.medial_mesh.faces);
+            d["labels"] = py::array_t<int>(r.labels.size(), r.labels.data());
+            d["warnings"] = warnings_of(r.warnings);
+            d["summary"] = summary_of(r);
+            d["seconds"] = seconds_of(r.seconds);
+            return d;
+          },
+          "everything as a dict of arrays, lists and dicts")
       .def("__repr__", [](const Result& r) {
         return "<vmas.Result: " + std::to_string(r.medial_mesh.spheres.size()) + " spheres, " +
                std::to_string(r.medial_mesh.edges.size()) + " edges, " +
@@ -395,20 +415,11 @@ PYBIND11_MODULE(vmas, m) {
   py::class_<PySk>(m, "Skeletonizer",
                    "The optimisation, step by step, editable between steps (the paper's dynamic "
                    "editing). Vertex indices are those of the prepared shape (`points`).")
-      .def(py::init([](py::object points, py::object normals, py::object faces,
-                       py::object spheres, py::object error, int threads, py::kwargs options) {
-             py::dict keywords;
-             for (const auto& [key, value] : options) keywords[key] = value;
-             keywords["spheres"] = spheres;
-             keywords["error"] = error;
-             keywords["threads"] = threads;
-             SurfaceInput surface = py::isinstance<SurfaceInput>(points) && normals.is_none() &&
-                                            faces.is_none()
-                                        ? points.cast<SurfaceInput>()
-                                        : surface_of(points, normals, faces);
-             const Options parsed = options_of(keywords);
+      .def(py::init([](py::object points, py::object normals, py::object faces, py::object spheres,
+                       py::object error, int threads, py::kwargs options) {
+             Call call = call_of(points, normals, faces, spheres, error, threads, options);
              py::gil_scoped_release released;
-             return std::make_unique<PySk>(std::move(surface), parsed);
+             return std::make_unique<PySk>(std::move(call.surface), call.options);
            }),
            py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
            py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
@@ -479,7 +490,8 @@ PYBIND11_MODULE(vmas, m) {
           py::arg("id"), py::arg("frozen") = true,
           "A frozen sphere is neither moved, split nor removed by the optimisation.")
       .def(
-          "medial_mesh", [](const PySk& p) { return p.frame.to_input(p.skeletonizer->medial_mesh()); },
+          "medial_mesh",
+          [](const PySk& p) { return p.frame.to_input(p.skeletonizer->medial_mesh()); },
           "The medial mesh now, in the input's coordinates.")
       .def_property_readonly(
           "points", [](const PySk& p) { return matrix(p.skeletonizer->shape().points); },
@@ -498,8 +510,8 @@ PYBIND11_MODULE(vmas, m) {
             return py::array_t<std::uint64_t>(keys.size(), keys.data());
           },
           "(M,) uint64: a key per sphere that stays with it for its life")
-      .def_property_readonly(
-          "total_error", [](const PySk& p) { return p.skeletonizer->total_error(); })
+      .def_property_readonly("total_error",
+                             [](const PySk& p) { return p.skeletonizer->total_error(); })
       .def_property_readonly("spheres", [](const PySk& p) {
         return static_cast<int>(p.skeletonizer->spheres().size());
       });
@@ -508,16 +520,8 @@ PYBIND11_MODULE(vmas, m) {
       "skeletonize",
       [](py::object points, py::object normals, py::object faces, py::object spheres,
          py::object error, int threads, py::object progress, py::kwargs options) {
-        py::dict keywords;
-        for (const auto& [key, value] : options) keywords[key] = value;
-        keywords["spheres"] = spheres;
-        keywords["error"] = error;
-        keywords["threads"] = threads;
-        SurfaceInput surface = py::isinstance<SurfaceInput>(points) && normals.is_none() &&
-                                       faces.is_none()
-                                   ? points.cast<SurfaceInput>()
-                                   : surface_of(points, normals, faces);
-        return run_skeletonize(std::move(surface), options_of(keywords), progress);
+        Call call = call_of(points, normals, faces, spheres, error, threads, options);
+        return run_skeletonize(std::move(call.surface), call.options, progress);
       },
       py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
       py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
