@@ -222,3 +222,17 @@ def test_the_editing_loop_of_the_paper():
         skeletonizer.remove_sphere(99)
     with pytest.raises(vmas.InvalidOption):
         skeletonizer.add_sphere(-1)
+
+
+def test_open3d_arrays_go_in_directly():
+    o3d = pytest.importorskip("open3d", reason="Debian's python3-open3d (scripts/build installs it)")
+    points, normals = capsule_points(2000)
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    cloud.normals = o3d.utility.Vector3dVector(normals)
+    from_open3d = vmas.skeletonize(np.asarray(cloud.points), np.asarray(cloud.normals), spheres=5)
+    from_numpy = vmas.skeletonize(points, normals, spheres=5)
+    np.testing.assert_array_equal(from_open3d.centers, from_numpy.centers)
+    ball = o3d.geometry.TriangleMesh.create_sphere(radius=2.0, resolution=20)
+    result = vmas.skeletonize(np.asarray(ball.vertices), faces=np.asarray(ball.triangles),
+                              spheres=1)
+    assert np.linalg.norm(result.centers[0]) < 0.05 and abs(result.radii[0] - 2.0) < 0.05
