@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
@@ -38,8 +39,8 @@ const char* kDescription =
     "\n"
     "Skeletonizes INPUT live and serves an editor page: the optimisation keeps running while\n"
     "you remove, split and freeze spheres in the browser. Prints the page's URL as the first\n"
-    "line on stdout (it holds a random token that every request needs). Saving writes OUTPUT\n"
-    "(.ply or .ma). Ctrl-C stops. Exit codes: 0 stopped, 1 run error, 2 usage error.\n"
+    "line on stdout (it holds a random token that every request needs). Saving downloads the\n"
+    "skeleton and, with -o, writes OUTPUT too (.ply or .ma). Ctrl-C stops. Exit codes: 0 stopped, 1 run error, 2 usage error.\n"
     "\n"
     "options";
 
@@ -160,9 +161,16 @@ int integer_field(const json& edit, const char* name) {
   return static_cast<int>(value.get<std::int64_t>());
 }
 
+// The skeleton "save" gave last, for /api/download: its file name and bytes.
+struct Saved {
+  std::mutex mutex;
+  std::string name, bytes;
+};
+
 // One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
+// "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too.
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
-                const Frame& frame) {
+                const std::string& download_name, const Frame& frame, Saved& saved) {
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
@@ -175,14 +183,29 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
   } else if (op == "pause") {
     session.pause(edit.value("paused", true));
   } else if (op == "target") {
-    session.set_target_spheres(integer_field(edit, "spheres"));
+    if (edit.contains("by"))
+      session.change_target_spheres(integer_field(edit, "by"));
+    else
+      session.set_target_spheres(integer_field(edit, "spheres"));
   } else if (op == "lambda") {
-    session.set_lambda(edit.at("value").get<double>());
+    if (edit.contains("times"))
+      session.scale_lambda(edit.at("times").get<double>());
+    else
+      session.set_lambda(edit.at("value").get<double>());
   } else if (op == "save") {
-    if (output.empty()) throw InvalidOption("no output file: start vmas edit with -o OUTPUT");
     const EditSnapshot s = session.snapshot();
-    write_medial_mesh(output, frame.to_input(s.mesh));
-    return {{"ok", true}, {"path", output}, {"spheres", s.spheres.size()}};
+    const MedialMesh mesh = frame.to_input(s.mesh);
+    const std::string name = output.empty() ? download_name : output;
+    std::string bytes = medial_mesh_file(name, mesh);
+    if (!output.empty()) write_file_atomically(output, bytes);
+    {
+      const std::lock_guard<std::mutex> lock(saved.mutex);
+      saved.name = std::filesystem::path(name).filename().string();
+      saved.bytes = std::move(bytes);
+    }
+    json reply = {{"ok", true}, {"spheres", s.spheres.size()}, {"name", saved.name}};
+    if (!output.empty()) reply["path"] = output;
+    return reply;
   } else {
     throw InvalidOption("unknown op '" + op + "'");
   }
@@ -322,10 +345,13 @@ int edit_command(int argc, const char* const* argv) {
     };
     res.done = [&] { --pages; };
   });
+  Saved saved;
+  const std::string download_name = std::filesystem::path(input).stem().string() + "_skeleton.ply";
   server.route("POST", "/api/edit", [&](const HttpRequest& req, HttpResponse& res) {
     try {
       res.content_type = "application/json";
-      res.body = apply_edit(session, json::parse(req.body), output, frame).dump();
+      res.body =
+          apply_edit(session, json::parse(req.body), output, download_name, frame, saved).dump();
     } catch (const json::exception& e) {
       res.json_error(400, std::string("bad edit: ") + e.what());
     } catch (const Error& e) {
@@ -333,14 +359,11 @@ int edit_command(int argc, const char* const* argv) {
     }
   });
   server.route("GET", "/api/download", [&](const HttpRequest&, HttpResponse& res) {
-    if (output.empty() || !std::filesystem::exists(output))
-      return res.json_error(404, "nothing saved yet");
-    res.headers.emplace_back(
-        "Content-Disposition",
-        "attachment; filename=\"" + std::filesystem::path(output).filename().string() + "\"");
-    std::ifstream file(output, std::ios::binary);
+    const std::lock_guard<std::mutex> lock(saved.mutex);
+    if (saved.bytes.empty()) return res.json_error(404, "nothing saved yet");
+    res.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + saved.name + "\"");
     res.content_type = "application/octet-stream";
-    res.body.assign(std::istreambuf_iterator<char>(file), {});
+    res.body = saved.bytes;
   });
 
   std::atomic<bool> stopping{false};

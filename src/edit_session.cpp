@@ -83,6 +83,14 @@ void EditSession::set_lambda(double lambda) {
   enqueue({Edit::Kind::Lambda, 0, 0, lambda});
 }
 
+void EditSession::change_target_spheres(int by) { enqueue({Edit::Kind::TargetBy, 0, by}); }
+
+void EditSession::scale_lambda(double factor) {
+  if (!(factor > 0.0 && factor <= 1e6))
+    throw InvalidOption("lambda", "factor must be in (0, 1e6] (got " + std::to_string(factor) + ")");
+  enqueue({Edit::Kind::LambdaTimes, 0, 0, factor});
+}
+
 void EditSession::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
 
 EditSnapshot EditSession::snapshot() const {
@@ -121,26 +129,41 @@ bool EditSession::apply(const Edit& edit) {
       return true;
     }
     case Edit::Kind::Target:
-      s.set_target_spheres(edit.value);
-      // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
-      while (count() > edit.value) {
-        std::vector<int> sizes(count(), 0);
-        for (int label : s.labels()) ++sizes[label];
-        int smallest = -1;
-        for (int id = 0; id < count(); ++id)
-          if (!s.frozen(id) && (smallest < 0 || sizes[id] < sizes[smallest])) smallest = id;
-        if (smallest < 0) break;  // every sphere left is frozen
-        s.remove_sphere(smallest);
-      }
+      apply_target(edit.value);
       return true;
+    case Edit::Kind::TargetBy: {
+      const int now = s.options().target_spheres > 0 ? s.options().target_spheres : count();
+      const long long wanted = static_cast<long long>(now) + edit.value;
+      apply_target(static_cast<int>(std::clamp<long long>(wanted, 1, most_spheres_)));
+      return true;
+    }
     case Edit::Kind::Lambda:
       s.set_lambda(edit.number);
+      return true;
+    case Edit::Kind::LambdaTimes:
+      s.set_lambda(std::min(s.options().lambda * edit.number, 1e6));
       return true;
     case Edit::Kind::Pause:
       paused_ = edit.value != 0;
       return true;
   }
   return true;
+}
+
+void EditSession::apply_target(int target) {
+  Skeletonizer& s = *skeletonizer_;
+  s.set_target_spheres(target);
+  // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
+  while (static_cast<int>(s.spheres().size()) > target) {
+    const int count = static_cast<int>(s.spheres().size());
+    std::vector<int> sizes(count, 0);
+    for (int label : s.labels()) ++sizes[label];
+    int smallest = -1;
+    for (int id = 0; id < count; ++id)
+      if (!s.frozen(id) && (smallest < 0 || sizes[id] < sizes[smallest])) smallest = id;
+    if (smallest < 0) break;  // every sphere left is frozen
+    s.remove_sphere(smallest);
+  }
 }
 
 void EditSession::publish(double steps_per_second) {

@@ -188,7 +188,7 @@ TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   EXPECT_NE(refused(R"({"op": "explode"})").find("unknown op"), std::string::npos);
   EXPECT_NE(refused(R"({"op": "remove", "key": 99999})").find("no sphere"), std::string::npos);
   EXPECT_NE(refused(R"({"op": "split", "vertex": -4})").find("no vertex"), std::string::npos);
-  EXPECT_NE(refused(R"({"op": "save"})").find("no output"), std::string::npos);
+  EXPECT_NE(refused(R"({"op": "lambda", "times": -2})").find("factor"), std::string::npos);
   // Numbers are checked before they are narrowed (2^32 + 1 once became a count of 1).
   EXPECT_NE(refused(R"({"op": "target", "spheres": 4294967297})").find("integer"), std::string::npos);
   EXPECT_NE(refused(R"({"op": "split", "vertex": 1e20})").find("integer"), std::string::npos);
@@ -196,6 +196,37 @@ TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   // Still running and answering.
   EXPECT_EQ(client_->Get(api("/api/shape").c_str())->status, 200);
   EXPECT_EQ(state_with_spheres(3)["spheres"].size(), 3u);
+}
+
+// Relative edits add up in arrival order (five quick +1 are +5, whatever the page last saw);
+// without -o, save keeps the skeleton for the download.
+TEST_F(EditServer, RelativeEditsAddUpAndSavingWithoutOutputDownloads) {
+  write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  start({path("ball.off"), "--spheres", "3", "--threads", "1"});
+  EXPECT_EQ(client_->Get(api("/api/download").c_str())->status, 404);  // nothing saved yet
+  ASSERT_EQ(state_with_spheres(3)["spheres"].size(), 3u);
+  for (int i = 0; i < 5; ++i) ASSERT_EQ(edit({{"op", "target"}, {"by", 1}})->status, 200);
+  EXPECT_EQ(state_when([](const json& s) { return s["target_spheres"] == 8; })["target_spheres"], 8);
+  for (int i = 0; i < 2; ++i) ASSERT_EQ(edit({{"op", "target"}, {"by", -1}})->status, 200);
+  EXPECT_EQ(state_with_spheres(6)["spheres"].size(), 6u);
+  const double lambda = state_when([](const json&) { return true; })["lambda"];
+  ASSERT_EQ(edit({{"op", "lambda"}, {"times", 2.0}})->status, 200);
+  ASSERT_EQ(edit({{"op", "lambda"}, {"times", 2.0}})->status, 200);
+  EXPECT_DOUBLE_EQ(state_when([&](const json& s) {
+                     return s["lambda"].get<double>() > 3 * lambda;
+                   })["lambda"].get<double>(),
+                   4 * lambda);
+
+  const auto saved = edit({{"op", "save"}});
+  ASSERT_EQ(saved->status, 200) << saved->body;
+  const json reply = json::parse(saved->body);
+  EXPECT_EQ(reply["name"], "ball_skeleton.ply");
+  EXPECT_FALSE(reply.contains("path"));
+  const auto download = client_->Get(api("/api/download").c_str());
+  ASSERT_EQ(download->status, 200);
+  write("downloaded.ply", download->body);
+  EXPECT_EQ(read_medial_mesh(path("downloaded.ply")).spheres.size(),
+            reply["spheres"].get<std::size_t>());
 }
 
 TEST_F(EditServer, SeveralPagesSeeOneStateAndClosingTheLastStopsWithExitOnClose) {

@@ -58,6 +58,11 @@ class EditSession {
   void freeze(std::uint64_t key, bool frozen);
   void set_target_spheres(int count);  // grows by splitting, shrinks by removing small clusters
   void set_lambda(double lambda);
+  // Relative to the value when the edit's turn comes, so that quick edits add up (five +1
+  // before the worker's next turn are +5): the count target (the sphere count when growing to
+  // an error threshold) by `by`, kept within 1 and the most spheres; λ times `factor` (> 0).
+  void change_target_spheres(int by);
+  void scale_lambda(double factor);
   void pause(bool paused);
 
   EditSnapshot snapshot() const;
@@ -68,7 +73,7 @@ class EditSession {
 
  private:
   struct Edit {
-    enum class Kind { Remove, Split, Freeze, Target, Lambda, Pause } kind;
+    enum class Kind { Remove, Split, Freeze, Target, TargetBy, Lambda, LambdaTimes, Pause } kind;
     std::uint64_t key = 0;
     int value = 0;
     double number = 0.0;
@@ -78,6 +83,7 @@ class EditSession {
   void check_key(std::uint64_t key) const;  // caller holds mutex_
   void work();
   bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
+  void apply_target(int count);  // worker thread: the count target, reached at once when fewer
   void publish(double steps_per_second);
 
   std::unique_ptr<Skeletonizer> skeletonizer_;

@@ -156,6 +156,7 @@ async function main() {
   pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
     'D removes the hovered sphere', 'S splits the hovered point\'s cluster',
+    'five quick + presses are five more spheres, then - brings one back',
     'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
     'SIGINT stops vmas with exit code 0');
 
@@ -273,6 +274,17 @@ async function main() {
       return `point ${vertex} at (${hovered.x}, ${hovered.y}); ${status.split('  ')[0]}; ` +
              `shown ${await latency()} ms after the key press`;
     }
+  });
+
+  await check('five quick + presses are five more spheres, then - brings one back', async () => {
+    // Each press is relative to the server's target when its turn comes, so presses made
+    // before the page hears back still add up.
+    for (let i = 0; i < 5; ++i) await page.keyboard.press('+');
+    await waitForStatus(new RegExp(`^spheres ${SPHERES + 5}/${SPHERES + 5} `), `'spheres ${SPHERES + 5}/${SPHERES + 5}'`);
+    await page.keyboard.press('-');
+    await waitForStatus(new RegExp(`^spheres ${SPHERES + 4}/${SPHERES + 4} `), `'spheres ${SPHERES + 4}/${SPHERES + 4}'`);
+    noPageErrors();
+    return status.split('  ')[0];
   });
 
   await check('W saves the skeleton and downloads it', async () => {
