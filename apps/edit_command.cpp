@@ -97,6 +97,8 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
                   {"target_spheres", s.target_spheres},
                   {"lambda", s.lambda},
                   {"dropped_edits", s.dropped_edits},
+                  {"undo", s.undo_steps},
+                  {"redo", s.redo_steps},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres}};
@@ -182,6 +184,10 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     session.freeze(edit.at("key").get<std::uint64_t>(), edit.value("frozen", true));
   } else if (op == "pause") {
     session.pause(edit.value("paused", true));
+  } else if (op == "undo") {
+    session.undo();
+  } else if (op == "redo") {
+    session.redo();
   } else if (op == "target") {
     if (edit.contains("by"))
       session.change_target_spheres(integer_field(edit, "by"));

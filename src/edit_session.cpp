@@ -91,6 +91,10 @@ void EditSession::scale_lambda(double factor) {
   enqueue({Edit::Kind::LambdaTimes, 0, 0, factor});
 }
 
+void EditSession::undo() { enqueue({Edit::Kind::Undo}); }
+
+void EditSession::redo() { enqueue({Edit::Kind::Redo}); }
+
 void EditSession::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
 
 EditSnapshot EditSession::snapshot() const {
@@ -105,7 +109,49 @@ std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_m
   return published_.version;
 }
 
+EditSession::Moment EditSession::moment() const {
+  const Skeletonizer& s = *skeletonizer_;
+  return {s.state(), s.options().target_spheres, s.options().error_threshold, s.options().lambda};
+}
+
+void EditSession::go_back_to(const Moment& m) {
+  Skeletonizer& s = *skeletonizer_;
+  s.restore(m.state);
+  if (m.target_spheres > 0)
+    s.set_target_spheres(m.target_spheres);
+  else
+    s.set_error_threshold(m.error_threshold);
+  s.set_lambda(m.lambda);
+}
+
 bool EditSession::apply(const Edit& edit) {
+  // Undo and redo move between moments; any other edit (but pause) is a moment of its own.
+  if (edit.kind == Edit::Kind::Undo || edit.kind == Edit::Kind::Redo) {
+    auto& from = edit.kind == Edit::Kind::Undo ? undo_ : redo_;
+    auto& to = edit.kind == Edit::Kind::Undo ? redo_ : undo_;
+    if (from.empty()) return false;
+    to.push_back(moment());
+    go_back_to(from.back());
+    from.pop_back();
+    return true;
+  }
+  if (edit.kind != Edit::Kind::Pause) {
+    undo_.push_back(moment());
+    if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
+    redo_.clear();
+  }
+  bool applied = false;
+  try {
+    applied = apply_one(edit);
+  } catch (...) {
+    if (edit.kind != Edit::Kind::Pause) undo_.pop_back();
+    throw;
+  }
+  if (!applied && edit.kind != Edit::Kind::Pause) undo_.pop_back();  // nothing to take back
+  return applied;
+}
+
+bool EditSession::apply_one(const Edit& edit) {
   Skeletonizer& s = *skeletonizer_;
   const auto count = [&] { return static_cast<int>(s.spheres().size()); };
   switch (edit.kind) {
@@ -146,6 +192,9 @@ bool EditSession::apply(const Edit& edit) {
     case Edit::Kind::Pause:
       paused_ = edit.value != 0;
       return true;
+    case Edit::Kind::Undo:
+    case Edit::Kind::Redo:
+      break;  // apply() takes them
   }
   return true;
 }
@@ -182,6 +231,8 @@ void EditSession::publish(double steps_per_second) {
   next.labels = s.labels();
   next.mesh = s.medial_mesh();
   next.dropped_edits = dropped_;
+  next.undo_steps = static_cast<int>(undo_.size());
+  next.redo_steps = static_cast<int>(redo_.size());
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;

@@ -434,6 +434,14 @@ void Skeletonizer::set_target_spheres(int count) {
   options_ = changed;
 }
 
+void Skeletonizer::set_error_threshold(double error) {
+  SkeletonizerOptions changed = options_;
+  changed.target_spheres = 0;
+  changed.error_threshold = error;
+  changed.validate();
+  options_ = changed;
+}
+
 void Skeletonizer::set_lambda(double lambda) {
   SkeletonizerOptions changed = options_;
   changed.lambda = lambda;

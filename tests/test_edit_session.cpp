@@ -152,5 +152,51 @@ TEST(EditSession, ATargetBelowTheCountRemovesSpheresAtOnce) {
   EXPECT_EQ(s.target_spheres, 4);
 }
 
+// Undo takes edits back one by one (spheres, freezes, count, λ of that moment), redo makes them
+// again; a new edit ends the redo.
+TEST(EditSession, UndoTakesEditsBackAndRedoMakesThemAgain) {
+  const auto session = capsule_session(6);
+  const EditSnapshot start = settled(*session, 6);
+  ASSERT_EQ(start.undo_steps, 0);
+  session->pause(true);
+  const EditSnapshot paused =
+      wait_until(*session, [](const EditSnapshot& s) { return s.paused; });
+  session->freeze(paused.keys[0], true);
+  session->remove(paused.keys[3]);
+  session->scale_lambda(2.0);
+  const EditSnapshot edited =
+      wait_until(*session, [](const EditSnapshot& s) { return s.undo_steps == 3; });
+  ASSERT_EQ(edited.spheres.size(), 5u);
+  EXPECT_TRUE(edited.frozen[0]);
+  EXPECT_DOUBLE_EQ(edited.lambda, 2 * paused.lambda);
+
+  for (int i = 0; i < 3; ++i) session->undo();
+  const EditSnapshot undone =
+      wait_until(*session, [](const EditSnapshot& s) { return s.redo_steps == 3; });
+  EXPECT_EQ(undone.undo_steps, 0);
+  EXPECT_EQ(undone.keys, paused.keys);
+  EXPECT_EQ(undone.spheres.size(), paused.spheres.size());
+  for (std::size_t i = 0; i < paused.spheres.size(); ++i)
+    EXPECT_EQ(undone.spheres[i].center, paused.spheres[i].center);
+  EXPECT_FALSE(undone.frozen[0]);
+  EXPECT_EQ(undone.target_spheres, 6);
+  EXPECT_DOUBLE_EQ(undone.lambda, paused.lambda);
+
+  session->redo();
+  const EditSnapshot redone =
+      wait_until(*session, [](const EditSnapshot& s) { return s.redo_steps == 2; });
+  EXPECT_TRUE(redone.frozen[0]);
+  EXPECT_EQ(redone.spheres.size(), 6u);
+  session->set_target_spheres(4);  // a new edit: nothing left to redo
+  const EditSnapshot fresh =
+      wait_until(*session, [](const EditSnapshot& s) { return s.spheres.size() == 4; });
+  EXPECT_EQ(fresh.redo_steps, 0);
+  EXPECT_EQ(fresh.undo_steps, 2);
+  session->redo();  // nothing to make again: dropped, the state stays
+  const EditSnapshot same = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.dropped_edits > fresh.dropped_edits; });
+  EXPECT_EQ(same.spheres.size(), 4u);
+}
+
 }  // namespace
 }  // namespace vmas

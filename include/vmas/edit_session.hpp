@@ -36,6 +36,7 @@ struct EditSnapshot {
   MedialMesh mesh;          // spheres, edges and faces (shape coordinates)
   std::size_t dropped_edits = 0;  // edits that meant nothing when their turn came (a sphere
                                   // already gone, a split beyond the most spheres)
+  int undo_steps = 0, redo_steps = 0;  // edits undo() and redo() can take back / make again
 };
 
 class EditSession {
@@ -63,6 +64,13 @@ class EditSession {
   // an error threshold) by `by`, kept within 1 and the most spheres; λ times `factor` (> 0).
   void change_target_spheres(int by);
   void scale_lambda(double factor);
+  // Takes back the last edit (add, split, remove, freeze, count, λ; not pause), at most
+  // kUndoSteps of them: the spheres, freezes, count and λ of that moment come back and the
+  // optimisation goes on from there. redo() makes an undone edit again, until a new edit.
+  // Either does nothing when there is nothing to take back or make again.
+  static constexpr int kUndoSteps = 64;
+  void undo();
+  void redo();
   void pause(bool paused);
 
   EditSnapshot snapshot() const;
@@ -73,7 +81,18 @@ class EditSession {
 
  private:
   struct Edit {
-    enum class Kind { Remove, Split, Freeze, Target, TargetBy, Lambda, LambdaTimes, Pause } kind;
+    enum class Kind {
+      Remove,
+      Split,
+      Freeze,
+      Target,
+      TargetBy,
+      Lambda,
+      LambdaTimes,
+      Pause,
+      Undo,
+      Redo
+    } kind;
     std::uint64_t key = 0;
     int value = 0;
     double number = 0.0;
@@ -83,7 +102,16 @@ class EditSession {
   void check_key(std::uint64_t key) const;  // caller holds mutex_
   void work();
   bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
+  bool apply_one(const Edit& edit);  // apply() without the history
   void apply_target(int count);  // worker thread: the count target, reached at once when fewer
+  // What undo() brings back: the skeleton and the targets of a moment.
+  struct Moment {
+    SkeletonizerState state;
+    int target_spheres = 0;
+    double error_threshold = 0.0, lambda = 0.0;
+  };
+  Moment moment() const;            // worker thread
+  void go_back_to(const Moment& m);  // worker thread
   void publish(double steps_per_second);
 
   std::unique_ptr<Skeletonizer> skeletonizer_;
@@ -92,6 +120,7 @@ class EditSession {
   bool paused_ = false;  // worker's copy
   int iteration_ = 0;
   std::size_t dropped_ = 0;
+  std::deque<Moment> undo_, redo_;  // worker's: the newest last
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;

@@ -136,6 +136,7 @@ class Skeletonizer {
   // A new count target (replaces an error threshold) or λ for the steps to come; InvalidOption
   // when out of range.
   void set_target_spheres(int count);
+  void set_error_threshold(double error);  // instead of a count target (replaces it)
   void set_lambda(double lambda);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 

@@ -157,6 +157,7 @@ async function main() {
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
     'D removes the hovered sphere', 'S splits the hovered point\'s cluster',
     'five quick + presses are five more spheres, then - brings one back',
+    'Ctrl-Z undoes the -, Ctrl-Shift-Z redoes it',
     'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
     'SIGINT stops vmas with exit code 0');
 
@@ -283,6 +284,15 @@ async function main() {
     await waitForStatus(new RegExp(`^spheres ${SPHERES + 5}/${SPHERES + 5} `), `'spheres ${SPHERES + 5}/${SPHERES + 5}'`);
     await page.keyboard.press('-');
     await waitForStatus(new RegExp(`^spheres ${SPHERES + 4}/${SPHERES + 4} `), `'spheres ${SPHERES + 4}/${SPHERES + 4}'`);
+    noPageErrors();
+    return status.split('  ')[0];
+  });
+
+  await check('Ctrl-Z undoes the -, Ctrl-Shift-Z redoes it', async () => {
+    await page.keyboard.press('Control+z');
+    await waitForStatus(new RegExp(`^spheres ${SPHERES + 5}/${SPHERES + 5} `), `'spheres ${SPHERES + 5}/${SPHERES + 5}' after Ctrl-Z`);
+    await page.keyboard.press('Control+Shift+z');
+    await waitForStatus(new RegExp(`^spheres ${SPHERES + 4}/${SPHERES + 4} `), `'spheres ${SPHERES + 4}/${SPHERES + 4}' after Ctrl-Shift-Z`);
     noPageErrors();
     return status.split('  ')[0];
   });
