@@ -325,6 +325,11 @@ int edit_command(int argc, const char* const* argv) {
     res.headers.emplace_back("X-Vmas-Version", std::to_string(s.version));
   });
   server.route("GET", "/api/events", [&](const HttpRequest&, HttpResponse& res) {
+    // A page just closed holds its place until its stream notices (within a keep-alive): a
+    // reload waits for it rather than being refused.
+    const auto wait_until = std::chrono::steady_clock::now() + 2 * kKeepAlive;
+    while (pages >= kMaxPages && std::chrono::steady_clock::now() < wait_until && !server.stopping())
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (pages >= kMaxPages)
       return res.json_error(503, "too many pages open (" + std::to_string(kMaxPages) + ")");
     ++pages;

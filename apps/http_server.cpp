@@ -171,6 +171,14 @@ struct HttpServer::State {
     return !error;
   }
 
+  // Whether the client of a stream has closed its side (it sends nothing after the request): a
+  // write would only find out at the second one after the close, and the stream would hold its
+  // place (a page) until then.
+  static bool peer_gone(tcp::socket& socket) {
+    pollfd p{socket.native_handle(), POLLIN | POLLRDHUP, 0};
+    return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+  }
+
   // A stream: the header, then chunks as `next` makes them, each written under the deadline.
   void write_stream(tcp::socket& socket, Connection& connection, HttpResponse& response) {
     http::response<http::empty_body> head{static_cast<http::status>(response.status), 11};
@@ -183,7 +191,7 @@ struct HttpServer::State {
     set_deadline(connection, Clock::now() + limits.write_time);
     http::write_header(socket, serializer, error);
     std::string chunk;
-    while (!error && !stopping) {
+    while (!error && !stopping && !peer_gone(socket)) {
       set_deadline(connection, kNoDeadline);  // `next` may wait for news
       chunk.clear();
       if (!response.next(chunk) || stopping) break;
