@@ -288,6 +288,11 @@ class RawClient {
     }
   }
   bool closed() const { return closed_; }
+  // Whether the server has not closed its side, without waiting.
+  bool still_open() {
+    pollfd p{socket_, POLLIN | POLLRDHUP, 0};
+    return !closed_ && (::poll(&p, 1, 0) == 0 || !(p.revents & (POLLRDHUP | POLLHUP | POLLERR)));
+  }
 
  private:
   int socket_;
@@ -296,9 +301,9 @@ class RawClient {
 };
 
 // Slow and hostile clients hold a connection each, never the server: the page is served while
-// 100 of them trickle their headers, a request without the token gets its 403 and the
-// connection closed, a header that does not arrive whole within 10 s is cut off, and Ctrl-C
-// stops the server within a second whatever the clients do.
+// 100 of them sit on half-sent headers, a request without the token gets its 403 and the
+// connection closed, a header that never arrives whole is cut off, and Ctrl-C stops the server
+// whatever the clients do. (How fast: scripts/test-browser prints the figures.)
 TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
   write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
   start({path("ball.off"), "--spheres", "3", "--threads", "1"});
@@ -308,11 +313,11 @@ TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
     ASSERT_TRUE(slow.back()->connected());
     ASSERT_TRUE(slow.back()->send("GET / HTTP/1.1\r\nHo"));
   }
-  const auto asked = std::chrono::steady_clock::now();
   const auto page = client_->Get(api("/").c_str());
   ASSERT_TRUE(page);
   EXPECT_EQ(page->status, 200);
-  EXPECT_LT(std::chrono::steady_clock::now() - asked, std::chrono::seconds(2));
+  const auto open = std::count_if(slow.begin(), slow.end(), [](auto& c) { return c->still_open(); });
+  EXPECT_EQ(open, 100) << "the page came only after slow clients were dropped";
 
   RawClient stranger(port_);
   ASSERT_TRUE(stranger.send("GET /api/shape HTTP/1.1\r\nHost: x\r\n\r\n"));
@@ -320,32 +325,32 @@ TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
   EXPECT_EQ(refused.rfind("HTTP/1.1 403", 0), 0u) << refused;
   EXPECT_TRUE(stranger.closed()) << "a connection without the token stays open";
 
-  // One byte a second: the header is not whole 10 s after it began, the connection goes.
+  // One byte a second, never a whole header: the server closes the connection, unanswered
+  // (the loop gives up after 15 bytes, well past the server's 10 s).
   RawClient trickler(port_);
-  const auto began = std::chrono::steady_clock::now();
   const std::string header = "GET /?token=" + token_ + " HTTP/1.1\r\nHost: x\r\nX-Slow: ";
+  std::string answered;
   for (std::size_t i = 0; i < 15 && !trickler.closed(); ++i) {
     trickler.send(header.substr(i, 1));
-    trickler.receive(std::chrono::milliseconds(1000));
+    answered += trickler.receive(std::chrono::milliseconds(1000));
   }
   EXPECT_TRUE(trickler.closed());
-  const auto cut_after = std::chrono::steady_clock::now() - began;
-  EXPECT_GE(cut_after, std::chrono::seconds(9));
-  EXPECT_LE(cut_after, std::chrono::seconds(12));
+  EXPECT_EQ(answered, "");
 
-  // An event stream open, 100 slow clients still there: Ctrl-C ends it all within a second.
+  // An event stream open, 100 slow clients still there: Ctrl-C ends it all, exit code 0.
   std::thread stream([&] { state_when([](const json&) { return false; }); });
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   for (auto& client : slow) client->send("s");
-  const auto interrupted = std::chrono::steady_clock::now();
   kill(pid_, SIGINT);
   int status = 0;
-  waitpid(pid_, &status, 0);
-  const auto stop_time = std::chrono::steady_clock::now() - interrupted;
+  pid_t done = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while ((done = waitpid(pid_, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(done, pid_) << "still running 20 s after Ctrl-C";
   pid_ = -1;
   stream.join();
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
-  EXPECT_LT(stop_time, std::chrono::seconds(1));
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 // Prints one line per check and ends with 'N passed, N failed, N skipped'; exits 1 on a failure.
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
+import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
 import readline from 'node:readline';
@@ -159,6 +160,7 @@ async function main() {
     'five quick + presses are five more spheres, then - brings one back',
     'Ctrl-Z undoes the -, Ctrl-Shift-Z redoes it',
     'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
+    'the page loads beside 100 clients sitting on half-sent headers',
     'SIGINT stops vmas with exit code 0');
 
   await check('vmas edit starts and prints the page URL', async () => {
@@ -334,14 +336,35 @@ async function main() {
     noPageErrors();
   });
 
+  // Figures, not judged: how long the page takes beside slow clients, and Ctrl-C with them there.
+  const slowClients = [];
+  await check('the page loads beside 100 clients sitting on half-sent headers', async () => {
+    const { port } = new URL(url);
+    for (let i = 0; i < 100; ++i) {
+      const socket = net.connect(Number(port), '127.0.0.1');
+      socket.on('error', () => {});
+      socket.write('GET / HTTP/1.1\r\nHo');
+      slowClients.push(socket);
+    }
+    await new Promise((resolve) => setTimeout(resolve, 200));
+    const started = Date.now();
+    const reply = await fetch(url);
+    if (reply.status !== 200) fail(`the page answered ${reply.status}`);
+    await reply.text();
+    return `${Date.now() - started} ms`;
+  });
+
   await check('SIGINT stops vmas with exit code 0', async () => {
-    // The page stays connected (its event stream open), as when a person presses Ctrl-C.
+    // The page stays connected (its event stream open), as when a person presses Ctrl-C, and
+    // the slow clients are still there.
+    const interrupted = Date.now();
     vmas.kill('SIGINT');
     const timeout = new Promise((resolve) => setTimeout(() => resolve(null), WAIT_MS));
     const exit = await Promise.race([vmas.exited, timeout]);
     if (!exit) fail(`vmas still running ${WAIT_MS / 1000} s after SIGINT`);
     if (exit.code !== 0) fail(`vmas exited with ${vmasExit}:\n${vmasStderr.join('').slice(-2000)}`);
-    return 'code 0';
+    for (const socket of slowClients) socket.destroy();
+    return `code 0, ${Date.now() - interrupted} ms after the signal, ${slowClients.length} slow clients connected`;
   });
 }
 
