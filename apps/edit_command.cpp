@@ -40,13 +40,15 @@ const char* kDescription =
     "Skeletonizes INPUT live and serves an editor page: the optimisation keeps running while\n"
     "you remove, split and freeze spheres in the browser. Prints the page's URL as the first\n"
     "line on stdout (it holds a random token that every request needs). Saving downloads the\n"
-    "skeleton and, with -o, writes OUTPUT too (.ply or .ma). Ctrl-C stops. Exit codes: 0 stopped, 1 run error, 2 usage error.\n"
+    "skeleton and, with -o, writes OUTPUT too (.ply or .ma). Ctrl-C stops. Exit codes:\n"
+    "0 stopped, 1 run error, 2 usage error.\n"
     "\n"
     "options";
 
 constexpr const char* kThreeDirectory = "/usr/share/javascript/three";  // Debian's libjs-three
 constexpr auto kUpdateInterval = std::chrono::milliseconds(1000 / 30);  // at most 30 updates/s
 constexpr auto kKeepAlive = std::chrono::milliseconds(1000);
+constexpr int kStreamPollMs = 50;  // longest wait for news in one call of an event stream
 // Pages open at once (each event stream holds a thread and a copy of the state it sent).
 constexpr int kMaxPages = 4;
 // Label changes sent as a list below this many; above, all labels are sent.
@@ -325,11 +327,10 @@ int edit_command(int argc, const char* const* argv) {
     res.headers.emplace_back("X-Vmas-Version", std::to_string(s.version));
   });
   server.route("GET", "/api/events", [&](const HttpRequest&, HttpResponse& res) {
-    // A page just closed holds its place until its stream notices (within a keep-alive): a
-    // reload waits for it rather than being refused.
-    const auto wait_until = std::chrono::steady_clock::now() + 2 * kKeepAlive;
-    while (pages >= kMaxPages && std::chrono::steady_clock::now() < wait_until && !server.stopping())
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // A page that has just closed keeps its place until its stream notices (within a poll): a
+    // new one (a reload) waits that long rather than being refused.
+    for (int poll = 0; pages >= kMaxPages && poll < 4 && !server.stopping(); ++poll)
+      std::this_thread::sleep_for(std::chrono::milliseconds(kStreamPollMs));
     if (pages >= kMaxPages)
       return res.json_error(503, "too many pages open (" + std::to_string(kMaxPages) + ")");
     ++pages;
@@ -338,20 +339,23 @@ int edit_command(int argc, const char* const* argv) {
     auto last = std::make_shared<std::chrono::steady_clock::time_point>();
     res.content_type = "text/event-stream";
     res.headers.emplace_back("Cache-Control", "no-store");
-    // At most 30 updates a second; a comment at least every second keeps the stream open. The
-    // wait is cut in slices so that a stop ends the stream at once.
+    // At most 30 updates a second, a comment after a second without one keeps the stream open.
+    // Each call waits briefly and may return nothing: between calls the server looks for a
+    // closed page or a stop.
     res.next = [&, sent, last](std::string& event) {
-      std::this_thread::sleep_until(*last + kUpdateInterval);
-      const auto keep_alive_at = std::chrono::steady_clock::now() + kKeepAlive;
-      std::uint64_t version = sent->version;
-      while (version <= sent->version && !server.stopping() &&
-             std::chrono::steady_clock::now() < keep_alive_at)
-        version = session.wait_for_version(sent->version, 100);
-      if (server.stopping()) return false;
-      *last = std::chrono::steady_clock::now();
-      event = version > sent->version
-                  ? "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n"
-                  : ": keep-alive\n\n";
+      using Clock = std::chrono::steady_clock;
+      if (Clock::now() < *last + kUpdateInterval) {
+        std::this_thread::sleep_until(*last + kUpdateInterval);
+        return true;
+      }
+      const std::uint64_t version = session.wait_for_version(sent->version, kStreamPollMs);
+      if (version > sent->version)
+        event = "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
+      else if (Clock::now() - *last >= kKeepAlive)
+        event = ": keep-alive\n\n";
+      else
+        return true;
+      *last = Clock::now();
       return true;
     };
     res.done = [&] { --pages; };

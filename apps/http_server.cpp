@@ -172,8 +172,8 @@ struct HttpServer::State {
   }
 
   // Whether the client of a stream has closed its side (it sends nothing after the request): a
-  // write would only find out at the second one after the close, and the stream would hold its
-  // place (a page) until then.
+  // write would only find out at the second one after the close. Looked at between calls of
+  // `next`, which therefore must not wait long.
   static bool peer_gone(tcp::socket& socket) {
     pollfd p{socket.native_handle(), POLLIN | POLLRDHUP, 0};
     return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;

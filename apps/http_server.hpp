@@ -30,8 +30,10 @@ struct HttpResponse {
   std::vector<std::pair<std::string, std::string>> headers;
   std::string body;
   // A stream (server-sent events): after the header, `next(chunk)` is called again and again
-  // and each chunk written, until it returns false or the client or the server goes; then
-  // `done()`. The connection closes afterwards.
+  // and each chunk written (an empty one: nothing), until it returns false or the client or the
+  // server goes; then `done()`. Between calls the server looks whether the client has hung up
+  // or stop() came, so `next` should wait for news briefly (tens of ms), not for long.
+  // The connection closes afterwards.
   std::function<bool(std::string& chunk)> next;
   std::function<void()> done;
   bool close = false;  // close the connection after this response

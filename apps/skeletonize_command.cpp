@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "run_summary.hpp"
 #include "standard_streams.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
@@ -51,12 +52,6 @@ const char* kDescription =
     "\n"
     "options";
 
-// Lengths in % of the diagonal, two significant digits; seconds to the millisecond.
-double percent_of(double length, double diagonal) {
-  return diagonal > 0.0 ? std::round(1e4 * length / diagonal) / 1e2 : 0.0;
-}
-double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
-
 std::string text_of(double value, const char* format = "%.3g") {
   char text[32];
   std::snprintf(text, sizeof text, format, value);
@@ -76,100 +71,6 @@ struct Settings {
   std::string input_format;           // of INPUT `-`
   std::string output_format = "ply";  // of `-o -` and --output-dir: ply or ma
 };
-
-// The run's summary as data: printed as JSON, or read by print_summary().
-// What was read, before the run consumed it.
-struct InputSize {
-  std::size_t points = 0, faces = 0;
-};
-
-json summarize(const Job& job, const InputSize& input, const Result& result, double read_seconds,
-               double write_seconds, const EvalResult* eval) {
-  const PrepareReport& prepared = result.prepare;
-  const SmoothingCheck& check = result.smoothing_check;
-  const double diagonal = prepared.diagonal * prepared.frame.scale;
-  const std::string normals = input.faces > 0              ? "from faces"
-                              : prepared.normals_estimated ? "estimated"
-                              : prepared.normals_oriented  ? "re-oriented"
-                                                           : "given";
-  const RefineReport& refine = result.refine;
-  json summary = {{"vmas", version()},
-                  {"input", job.input},
-                  {"output", job.output},
-                  {"points", input.points},
-                  {"faces", input.faces},
-                  {"normals", normals},
-                  {"cleaned",
-                   {{"non_finite_points", result.clean.non_finite_points},
-                    {"missing_normals", result.clean.missing_normals},
-                    {"duplicate_points", result.clean.duplicate_points},
-                    {"degenerate_faces", result.clean.degenerate_faces},
-                    {"unused_vertices", result.clean.unused_points}}},
-                  {"thinning",
-                   {{"applied", prepared.thinned_from > 0},
-                    {"points", prepared.kept.size() + prepared.outliers},
-                    {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
-                  {"outliers", prepared.outliers},
-                  {"noise",
-                   {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
-                    {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
-                    {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
-                    {"smoothed", prepared.smoothed()},
-                    {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
-                    {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
-                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
-                    {"smoothing_check",
-                     {{"made", check.made},
-                      {"smoothing_kept", check.smoothing_kept},
-                      {"smoothed_reach_percent", percent_of(check.smoothed_reach, 1.0)},
-                      {"unsmoothed_reach_percent", percent_of(check.unsmoothed_reach, 1.0)}}}}},
-                  {"diagonal", diagonal},
-                  {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
-                  {"holes",
-                   {{"count", prepared.holes.size()},
-                    {"widest_percent",
-                     percent_of(prepared.holes.empty() ? 0.0 : prepared.holes.front().width,
-                                prepared.diagonal)}}},
-                  {"components",
-                   {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
-                  {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
-                  {"spheres", result.medial_mesh.spheres.size()},
-                  {"edges", result.medial_mesh.edges.size()},
-                  {"medial_faces", result.medial_mesh.faces.size()},
-                  {"iterations", result.summary.iterations},
-                  {"refine",
-                   {{"moves_tried", refine.tried},
-                    {"moves_kept", refine.kept},
-                    {"error_before_percent", percent_of(refine.error_before, prepared.diagonal)},
-                    {"error_after_percent", percent_of(refine.error_after, prepared.diagonal)}}},
-                  {"converged", result.summary.converged},
-                  {"stopped_by_max_iterations", result.summary.hit_max_iterations},
-                  {"total_error", result.summary.error}};
-  json warnings = json::array();
-  for (const Warning& w : result.warnings)
-    warnings.push_back({{"code", w.code}, {"message", w.message}});
-  summary["warnings"] = warnings;
-  if (eval)
-    summary["eval"] = {
-        {"hausdorff_percent", percent_of(eval->hausdorff, eval->diagonal)},
-        {"surface_to_medial_max_percent", percent_of(eval->surface_to_medial_max, eval->diagonal)},
-        {"medial_to_surface_max_percent", percent_of(eval->medial_to_surface_max, eval->diagonal)}};
-  const Timings& t = result.seconds;
-  summary["seconds"] = {{"read", rounded(read_seconds)},
-                        {"clean", rounded(t.clean)},
-                        {"prepare", rounded(t.prepare)},
-                        {"shape", rounded(t.shape)},
-                        {"partition", rounded(t.partition)},
-                        {"update", rounded(t.update)},
-                        {"projection", rounded(t.projection)},
-                        {"split", rounded(t.split)},
-                        {"refine", rounded(t.refine)},
-                        {"connectivity", rounded(t.connectivity)},
-                        {"smoothing_check", rounded(t.smoothing_check)},
-                        {"write", rounded(write_seconds)},
-                        {"total", rounded(read_seconds + t.total + write_seconds)}};
-  return summary;
-}
 
 // The summary of a single run, for people.
 void print_summary(const json& s, const Settings& settings, std::ostream& out) {
@@ -346,9 +247,11 @@ json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   const double write_seconds = seconds_since(write_start);
   for (const Warning& w : result.warnings)
     std::cerr << "vmas skeletonize: warning: " << job.input << ": " << w.message << "\n";
-  if (!settings.eval) return summarize(job, size, result, read_seconds, write_seconds, nullptr);
+  RunContext run{size, job.input, job.output, read_seconds, write_seconds};
+  if (!settings.eval) return run_summary(result, run);
   const EvalResult eval = evaluate(cleaned, result.medial_mesh);
-  return summarize(job, size, result, read_seconds, write_seconds, &eval);
+  run.eval = &eval;
+  return run_summary(result, run);
 }
 
 std::vector<std::string> read_input_list(const std::string& path) {

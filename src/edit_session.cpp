@@ -135,20 +135,13 @@ bool EditSession::apply(const Edit& edit) {
     from.pop_back();
     return true;
   }
-  if (edit.kind != Edit::Kind::Pause) {
-    undo_.push_back(moment());
-    if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
-    redo_.clear();
-  }
-  bool applied = false;
-  try {
-    applied = apply_one(edit);
-  } catch (...) {
-    if (edit.kind != Edit::Kind::Pause) undo_.pop_back();
-    throw;
-  }
-  if (!applied && edit.kind != Edit::Kind::Pause) undo_.pop_back();  // nothing to take back
-  return applied;
+  if (edit.kind == Edit::Kind::Pause) return apply_one(edit);
+  Moment before = moment();
+  if (!apply_one(edit)) return false;  // nothing to take back
+  undo_.push_back(std::move(before));
+  if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
+  redo_.clear();
+  return true;
 }
 
 bool EditSession::apply_one(const Edit& edit) {

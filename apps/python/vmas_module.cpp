@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../commands.hpp"
+#include "../run_summary.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
@@ -179,34 +180,15 @@ py::dict summary_dict(const RunSummary& s) {
   return d;
 }
 
-py::dict summary_of(const Result& r) {
-  py::dict d = summary_dict(r.summary);
-  d["measured_error_percent"] = 100.0 * r.measured_error;
-  d["enclosure"] = r.enclosure;
-  d["input_components"] = r.input_components;
-  d["skeleton_components"] = r.skeleton_components;
-  d["outliers"] = r.prepare.outliers;
-  d["smoothed"] = r.prepare.smoothed();
-  d["noise_percent"] =
-      r.prepare.diagonal > 0.0 ? 100.0 * r.prepare.noise.sigma / r.prepare.diagonal : 0.0;
-  d["thinned_from"] = r.prepare.thinned_from;
-  return d;
-}
+// A Result and its figures as `vmas skeletonize --json` gives them (apps/run_summary.cpp), taken
+// when the run ends, while the input's size is known.
+struct PythonResult {
+  Result result;
+  std::string summary;  // JSON
+};
 
-py::dict seconds_of(const Timings& t) {
-  py::dict d;
-  d["clean"] = t.clean;
-  d["prepare"] = t.prepare;
-  d["shape"] = t.shape;
-  d["partition"] = t.partition;
-  d["update"] = t.update;
-  d["projection"] = t.projection;
-  d["split"] = t.split;
-  d["refine"] = t.refine;
-  d["connectivity"] = t.connectivity;
-  d["smoothing_check"] = t.smoothing_check;
-  d["total"] = t.total;
-  return d;
+py::object summary_of(const PythonResult& r) {
+  return py::module_::import("json").attr("loads")(r.summary);
 }
 
 py::list warnings_of(const std::vector<Warning>& warnings) {
@@ -230,7 +212,7 @@ py::array_t<double> centers_of(const MedialMesh& mesh) {
 
 // A medial mesh from a Result or from anything with centers, radii, edges and faces.
 MedialMesh medial_of(const py::handle& object) {
-  if (py::isinstance<Result>(object)) return object.cast<const Result&>().medial_mesh;
+  if (py::isinstance<PythonResult>(object)) return object.cast<const PythonResult&>().result.medial_mesh;
   if (py::isinstance<MedialMesh>(object)) return object.cast<MedialMesh>();
   MedialMesh mesh;
   const std::vector<Vec3> centers = rows_of(object.attr("centers"), "centers");
@@ -283,11 +265,17 @@ struct PythonProgress {
   }
 };
 
-Result run_skeletonize(SurfaceInput surface, const Options& options, const py::object& progress) {
+PythonResult run_skeletonize(SurfaceInput surface, const Options& options,
+                             const py::object& progress) {
   PythonProgress watch{progress};
   try {
     py::gil_scoped_release released;
-    return skeletonize(std::move(surface), options, std::ref(watch));
+    cli::RunContext run;
+    run.input_size = {surface.points.size(), surface.faces.size()};
+    PythonResult r{skeletonize(std::move(surface), options, std::ref(watch)), ""};
+    r.summary = cli::run_summary(r.result, run).dump(-1, ' ', false,
+                                                     cli::json::error_handler_t::replace);
+    return r;
   } catch (const Cancelled&) {
     if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
     throw;
@@ -367,48 +355,54 @@ PYBIND11_MODULE(vmas, m) {
       .def_property_readonly(
           "faces", [](const MedialMesh& mm) { return index_matrix(mm.faces); }, "(T, 3) int32");
 
-  py::class_<Result>(m, "Result", "What vmas.skeletonize gives.")
-      .def_property_readonly("medial_mesh", [](const Result& r) { return r.medial_mesh; })
+  py::class_<PythonResult>(m, "Result", "What vmas.skeletonize gives.")
+      .def_property_readonly("medial_mesh",
+                             [](const PythonResult& r) { return r.result.medial_mesh; })
       .def_property_readonly(
-          "centers", [](const Result& r) { return centers_of(r.medial_mesh); },
+          "centers", [](const PythonResult& r) { return centers_of(r.result.medial_mesh); },
           "(M, 3) float64: the spheres' centres")
       .def_property_readonly(
-          "radii", [](const Result& r) { return radii_of(r.medial_mesh); }, "(M,) float64")
+          "radii", [](const PythonResult& r) { return radii_of(r.result.medial_mesh); },
+          "(M,) float64")
       .def_property_readonly(
-          "edges", [](const Result& r) { return index_matrix(r.medial_mesh.edges); },
+          "edges", [](const PythonResult& r) { return index_matrix(r.result.medial_mesh.edges); },
           "(E, 2) int32: indices into centers")
       .def_property_readonly(
-          "faces", [](const Result& r) { return index_matrix(r.medial_mesh.faces); },
+          "faces", [](const PythonResult& r) { return index_matrix(r.result.medial_mesh.faces); },
           "(T, 3) int32: indices into centers")
       .def_property_readonly(
           "labels",
-          [](const Result& r) { return py::array_t<int>(r.labels.size(), r.labels.data()); },
+          [](const PythonResult& r) {
+            return py::array_t<int>(r.result.labels.size(), r.result.labels.data());
+          },
           "(N,) int32: the sphere of every input point, -1 for a dropped one")
       .def_property_readonly(
-          "warnings", [](const Result& r) { return warnings_of(r.warnings); },
+          "warnings", [](const PythonResult& r) { return warnings_of(r.result.warnings); },
           "[(code, message)]: what the caller should know")
-      .def_property_readonly("summary", &summary_of, "the run's figures (dict)")
+      .def_property_readonly("summary", &summary_of,
+                             "the run's figures, as `vmas skeletonize --json` gives them (dict)")
       .def_property_readonly(
-          "seconds", [](const Result& r) { return seconds_of(r.seconds); }, "time per stage (dict)")
+          "seconds",
+          [](const PythonResult& r) {
+            const py::object summary = summary_of(r);
+            return py::object(summary["seconds"]);
+          },
+          "time per stage (dict): the summary's seconds")
       .def(
           "to_dict",
-          [](const Result& r) {
+          [](const py::object& self) {
             py::dict d;
-            d["centers"] = centers_of(r.medial_mesh);
-            d["radii"] = radii_of(r.medial_mesh);
-            d["edges"] = index_matrix(r.medial_mesh.edges);
-            d["faces"] = index_matrix(r.medial_mesh.faces);
-            d["labels"] = py::array_t<int>(r.labels.size(), r.labels.data());
-            d["warnings"] = warnings_of(r.warnings);
-            d["summary"] = summary_of(r);
-            d["seconds"] = seconds_of(r.seconds);
+            for (const char* name :
+                 {"centers", "radii", "edges", "faces", "labels", "warnings", "summary", "seconds"})
+              d[name] = self.attr(name);
             return d;
           },
           "everything as a dict of arrays, lists and dicts")
-      .def("__repr__", [](const Result& r) {
-        return "<vmas.Result: " + std::to_string(r.medial_mesh.spheres.size()) + " spheres, " +
-               std::to_string(r.medial_mesh.edges.size()) + " edges, " +
-               std::to_string(r.medial_mesh.faces.size()) + " faces>";
+      .def("__repr__", [](const PythonResult& r) {
+        const MedialMesh& mm = r.result.medial_mesh;
+        return "<vmas.Result: " + std::to_string(mm.spheres.size()) + " spheres, " +
+               std::to_string(mm.edges.size()) + " edges, " + std::to_string(mm.faces.size()) +
+               " faces>";
       });
 
   using PySk = PythonSkeletonizer;

@@ -1,0 +1,107 @@
+// The figures of a run as `vmas skeletonize --json` prints them.
+#include "run_summary.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace vmas::cli {
+namespace {
+
+// Lengths in % of the diagonal, two significant digits; seconds to the millisecond.
+double percent_of(double length, double diagonal) {
+  return diagonal > 0.0 ? std::round(1e4 * length / diagonal) / 1e2 : 0.0;
+}
+double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
+
+}  // namespace
+
+json run_summary(const Result& result, const RunContext& run) {
+  const InputSize& input = run.input_size;
+  const PrepareReport& prepared = result.prepare;
+  const SmoothingCheck& check = result.smoothing_check;
+  const double diagonal = prepared.diagonal * prepared.frame.scale;
+  const std::string normals = input.faces > 0              ? "from faces"
+                              : prepared.normals_estimated ? "estimated"
+                              : prepared.normals_oriented  ? "re-oriented"
+                                                           : "given";
+  const RefineReport& refine = result.refine;
+  json summary = {{"vmas", version()}};
+  if (!run.input.empty()) summary["input"] = run.input;
+  if (!run.output.empty()) summary["output"] = run.output;
+  summary.update({{"points", input.points},
+                  {"faces", input.faces},
+                  {"normals", normals},
+                  {"cleaned",
+                   {{"non_finite_points", result.clean.non_finite_points},
+                    {"missing_normals", result.clean.missing_normals},
+                    {"duplicate_points", result.clean.duplicate_points},
+                    {"degenerate_faces", result.clean.degenerate_faces},
+                    {"unused_vertices", result.clean.unused_points}}},
+                  {"thinning",
+                   {{"applied", prepared.thinned_from > 0},
+                    {"points", prepared.kept.size() + prepared.outliers},
+                    {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
+                  {"outliers", prepared.outliers},
+                  {"noise",
+                   {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
+                    {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
+                    {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
+                    {"smoothed", prepared.smoothed()},
+                    {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
+                    {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
+                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
+                    {"smoothing_check",
+                     {{"made", check.made},
+                      {"smoothing_kept", check.smoothing_kept},
+                      {"smoothed_reach_percent", percent_of(check.smoothed_reach, 1.0)},
+                      {"unsmoothed_reach_percent", percent_of(check.unsmoothed_reach, 1.0)}}}}},
+                  {"diagonal", diagonal},
+                  {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
+                  {"holes",
+                   {{"count", prepared.holes.size()},
+                    {"widest_percent",
+                     percent_of(prepared.holes.empty() ? 0.0 : prepared.holes.front().width,
+                                prepared.diagonal)}}},
+                  {"components",
+                   {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
+                  {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
+                  {"spheres", result.medial_mesh.spheres.size()},
+                  {"edges", result.medial_mesh.edges.size()},
+                  {"medial_faces", result.medial_mesh.faces.size()},
+                  {"iterations", result.summary.iterations},
+                  {"refine",
+                   {{"moves_tried", refine.tried},
+                    {"moves_kept", refine.kept},
+                    {"error_before_percent", percent_of(refine.error_before, prepared.diagonal)},
+                    {"error_after_percent", percent_of(refine.error_after, prepared.diagonal)}}},
+                  {"converged", result.summary.converged},
+                  {"stopped_by_max_iterations", result.summary.hit_max_iterations},
+                  {"total_error", result.summary.error}});
+  json warnings = json::array();
+  for (const Warning& w : result.warnings)
+    warnings.push_back({{"code", w.code}, {"message", w.message}});
+  summary["warnings"] = warnings;
+  if (const EvalResult* eval = run.eval)
+    summary["eval"] = {
+        {"hausdorff_percent", percent_of(eval->hausdorff, eval->diagonal)},
+        {"surface_to_medial_max_percent", percent_of(eval->surface_to_medial_max, eval->diagonal)},
+        {"medial_to_surface_max_percent", percent_of(eval->medial_to_surface_max, eval->diagonal)}};
+  const Timings& t = result.seconds;
+  summary["seconds"] = {{"read", rounded(run.read_seconds)},
+                        {"clean", rounded(t.clean)},
+                        {"prepare", rounded(t.prepare)},
+                        {"shape", rounded(t.shape)},
+                        {"partition", rounded(t.partition)},
+                        {"update", rounded(t.update)},
+                        {"projection", rounded(t.projection)},
+                        {"split", rounded(t.split)},
+                        {"refine", rounded(t.refine)},
+                        {"connectivity", rounded(t.connectivity)},
+                        {"smoothing_check", rounded(t.smoothing_check)},
+                        {"write", rounded(run.write_seconds)},
+                        {"total", rounded(run.read_seconds + t.total + run.write_seconds)}};
+  return summary;
+}
+
+
+}  // namespace vmas::cli

@@ -1,0 +1,31 @@
+#pragma once
+// The figures of a run as data: `vmas skeletonize --json` prints them (and reads them back for
+// its summary lines), `import vmas` gives them as Result.summary. One schema in one place.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vmas/eval.hpp"
+#include "vmas/vmas.hpp"
+
+namespace vmas::cli {
+
+using json = nlohmann::ordered_json;
+
+// What was read, before the run consumed it.
+struct InputSize {
+  std::size_t points = 0, faces = 0;
+};
+
+// What the caller knows beyond the Result: the file names (left out when empty), the seconds
+// of reading and writing, and a metric against the cleaned input (`--eval`), if measured.
+struct RunContext {
+  InputSize input_size;
+  std::string input, output;
+  double read_seconds = 0.0, write_seconds = 0.0;
+  const EvalResult* eval = nullptr;
+};
+
+json run_summary(const Result& result, const RunContext& run);
+
+}  // namespace vmas::cli
