@@ -54,7 +54,8 @@ void finish_run_options(const boost::program_options::variables_map& vm, RunOpti
 // `check` is vmas::check_output or vmas::check_medial_mesh_output.
 void check_output_option(const std::string& path, void (*check)(const std::string&));
 // Fails before any work when an output is one of the run's inputs or another of its outputs
-// (vmas::check_distinct_files), as a usage error. Empty paths (options not given) are skipped.
+// (vmas::check_distinct_files), as a usage error. Empty paths (options not given) and `-`
+// (standard input or output) are skipped.
 void check_distinct_files_option(const std::vector<std::string>& inputs,
                                  const std::vector<std::string>& outputs);
 

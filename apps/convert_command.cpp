@@ -69,7 +69,7 @@ int convert_command(int argc, const char* const* argv) {
     check_output_option(target, medial_meshes ? check_medial_mesh_format : check_surface_format);
   else
     check_output_option(target, medial_meshes ? check_medial_mesh_output : check_surface_output);
-  check_distinct_files_option({is_standard_stream(input) ? "" : input}, {to_stdout ? "" : output});
+  check_distinct_files_option({input}, {output});
 
   std::string summary, bytes;
   if (medial_meshes) {

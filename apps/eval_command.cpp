@@ -100,9 +100,7 @@ int eval_command(int argc, const char* const* argv) {
   if (!errors_path.empty()) check_output_option(errors_path, check_output);
   if (!medial_errors_path.empty()) check_output_option(medial_errors_path, check_output);
   check_standard_input({shape_path, medial_path}, input_format);
-  check_distinct_files_option({is_standard_stream(shape_path) ? "" : shape_path,
-                               is_standard_stream(medial_path) ? "" : medial_path},
-                              {errors_path, medial_errors_path});
+  check_distinct_files_option({shape_path, medial_path}, {errors_path, medial_errors_path});
 
   SurfaceInput shape;
   with_input_file(shape_path, input_format,

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "standard_streams.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 
@@ -135,7 +136,7 @@ void check_distinct_files_option(const std::vector<std::string>& inputs,
   const auto given = [](const std::vector<std::string>& paths) {
     std::vector<std::string> kept;
     for (const std::string& path : paths)
-      if (!path.empty()) kept.push_back(path);
+      if (!path.empty() && !is_standard_stream(path)) kept.push_back(path);
     return kept;
   };
   try {

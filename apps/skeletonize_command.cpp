@@ -359,8 +359,7 @@ int skeletonize_command(int argc, const char* const* argv) {
     const bool to_stdout = is_standard_stream(output);
     if (!to_stdout) check_output_option(output, check_medial_mesh_output);
     if (!labels_path.empty()) check_output_option(labels_path, check_output);
-    check_distinct_files_option({from_stdin ? "" : inputs[0], inputs_list},
-                                {to_stdout ? "" : output, labels_path});
+    check_distinct_files_option({inputs[0], inputs_list}, {output, labels_path});
     const Job job{inputs[0], output, labels_path};
     const ProgressStyle progress = settings.quiet                ? ProgressStyle::None
                                    : isatty(fileno(stderr)) ? ProgressStyle::Terminal
