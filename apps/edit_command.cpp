@@ -87,10 +87,13 @@ json preparation_summary(const Result& prepared, int points) {
           {"warnings", warnings}};
 }
 
-json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
+// Spheres and points go to the page in the input's coordinates (`frame`: the working frame's).
+json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame) {
   json spheres = json::array();
-  for (const Sphere& sphere : s.spheres)
-    spheres.push_back({sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
+  for (const Sphere& sphere : s.spheres) {
+    const Vec3 center = frame.to_input(sphere.center);
+    spheres.push_back({center.x(), center.y(), center.z(), frame.scale * sphere.radius});
+  }
   json message = {{"version", s.version},
                   {"iteration", s.iteration},
                   {"steps_per_second", std::round(s.steps_per_second * 10.0) / 10.0},
@@ -128,18 +131,19 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation) {
 
 // The shape, once: little-endian uint32 vertex count, uint32 face count (0: the page draws the
 // vertices the optimisation sees), float32 positions, float32 normals.
-std::string shape_bytes(const Shape& shape) {
+std::string shape_bytes(const Shape& shape, const Frame& frame) {
   std::string bytes;
   const auto put = [&](const void* data, std::size_t size) {
     bytes.append(static_cast<const char*>(data), size);
   };
   const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()), 0};
   put(counts, sizeof counts);
-  for (const auto* field : {&shape.points, &shape.normals})
-    for (const Vec3& p : *field) {
-      const float xyz[3] = {float(p.x()), float(p.y()), float(p.z())};
-      put(xyz, sizeof xyz);
-    }
+  const auto put_vector = [&](const Vec3& v) {
+    const float xyz[3] = {float(v.x()), float(v.y()), float(v.z())};
+    put(xyz, sizeof xyz);
+  };
+  for (const Vec3& p : shape.points) put_vector(frame.to_input(p));
+  for (const Vec3& n : shape.normals) put_vector(frame.direction_to_input(n));
   return bytes;
 }
 
@@ -283,7 +287,7 @@ int edit_command(int argc, const char* const* argv) {
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads);
-  const std::string shape = shape_bytes(session.shape());
+  const std::string shape = shape_bytes(session.shape(), frame);
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
   // page (its Origin) is refused even with it. Either way the connection is then closed.
@@ -350,7 +354,7 @@ int edit_command(int argc, const char* const* argv) {
       }
       const std::uint64_t version = session.wait_for_version(sent->version, kStreamPollMs);
       if (version > sent->version)
-        event = "data: " + state_message(session.snapshot(), *sent, preparation).dump() + "\n\n";
+        event = "data: " + state_message(session.snapshot(), *sent, preparation, frame).dump() + "\n\n";
       else if (Clock::now() - *last >= kKeepAlive)
         event = ": keep-alive\n\n";
       else

@@ -25,6 +25,8 @@ json run_summary(const Result& result, const RunContext& run) {
                               : prepared.normals_oriented  ? "re-oriented"
                                                            : "given";
   const RefineReport& refine = result.refine;
+  json starts = json::array();
+  for (double error : result.start_errors) starts.push_back(std::round(error * 1e5) / 1e3);
   json summary = {{"vmas", version()}};
   if (!run.input.empty()) summary["input"] = run.input;
   if (!run.output.empty()) summary["output"] = run.output;
@@ -65,6 +67,7 @@ json run_summary(const Result& result, const RunContext& run) {
                   {"components",
                    {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
                   {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
+                  {"starts", {{"kept", result.start_kept + 1}, {"measured_error_percent", starts}}},
                   {"spheres", result.medial_mesh.spheres.size()},
                   {"edges", result.medial_mesh.edges.size()},
                   {"medial_faces", result.medial_mesh.faces.size()},
@@ -97,6 +100,7 @@ json run_summary(const Result& result, const RunContext& run) {
                         {"split", rounded(t.split)},
                         {"refine", rounded(t.refine)},
                         {"connectivity", rounded(t.connectivity)},
+                        {"other_starts", rounded(t.other_starts)},
                         {"smoothing_check", rounded(t.smoothing_check)},
                         {"write", rounded(run.write_seconds)},
                         {"total", rounded(run.read_seconds + t.total + run.write_seconds)}};

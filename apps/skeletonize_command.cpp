@@ -139,6 +139,12 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
     out << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
         << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
         << refine["error_after_percent"] << " %\n";
+  const json& starts = s["starts"]["measured_error_percent"];
+  if (starts.size() > 1) {
+    out << "starts: measured epsilon";
+    for (const json& error : starts) out << (&error == &starts[0] ? " " : " / ") << error << " %";
+    out << "; start " << s["starts"]["kept"] << " kept\n";
+  }
   if (s.contains("eval"))
     out << "error: epsilon " << s["eval"]["hausdorff_percent"]
         << " % of the diagonal (surface -> medial " << s["eval"]["surface_to_medial_max_percent"]
@@ -147,9 +153,11 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
   out << "time (s): total " << text_of(t["total"], "%.2f");
   const char* parts[] = {"read",      "clean",        "prepare",         "shape",
                          "partition", "update",       "projection",      "split",
-                         "refine",    "connectivity", "smoothing_check", "write"};
+                         "refine",    "connectivity", "other_starts",    "smoothing_check",
+                         "write"};
   for (const char* part : parts)
-    if (part != std::string("smoothing_check") || t[part].get<double>() > 0.0)
+    if ((part != std::string("smoothing_check") && part != std::string("other_starts")) ||
+        t[part].get<double>() > 0.0)
       out << (part == parts[0] ? " = " : ", ") << part << " " << text_of(t[part], "%.2f");
   out << "\nwrote " << s["output"].get<std::string>() << "\n";
 }

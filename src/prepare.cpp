@@ -6,6 +6,7 @@
 #include <numeric>
 #include <string>
 
+#include "principal_axes.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -37,28 +38,54 @@ constexpr double kMinOpenMargin = 1e-3;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
 
-// Coordinates are moved to the centre when the offset exceeds this many times the longest side
-// of the bounding box, and scaled when that side is outside [1 / kSizeRange, kSizeRange].
-constexpr double kMaxOffsetInSides = 16.0, kSizeRange = 1e3;
+// Coordinates are scaled by a power of two when the longest side of the bounding box is
+// outside [1 / kSizeRange, kSizeRange], so that no stage loses precision to their magnitude.
+constexpr double kSizeRange = 1e3;
+// A later start's working frame is the first one turned by this angle per start about its
+// diagonal (turn_working_frame): any angle does that aligns no grid with the first.
+constexpr double kTurnRadians = 0.3;
 
-Frame normalize(std::vector<Vec3>& points) {
+// The working frame of `points` (see prepare_surface). The principal axes of the points, largest
+// spread first, each pointing to the side with the larger third moment (right-handed: the third
+// is the cross product of the first two): functions of the shape alone, so a rotated, moved or
+// scaled copy of the data gets the same working coordinates up to rounding and scale.
+Frame working_frame(const std::vector<Vec3>& points) {
   Frame frame;
   if (points.empty()) return frame;
-  const Box box = bounding_box(points);
-  const Vec3 center = box.center();
-  // The longest side, not the diagonal: its square would underflow for coordinates ~1e-300.
-  const double size = box.sizes().maxCoeff();
-  const bool offset = center.cwiseAbs().maxCoeff() > kMaxOffsetInSides * size;
-  const bool outsized = size > 0.0 && (size > kSizeRange || size < 1.0 / kSizeRange);
-  if (!offset && !outsized) return frame;
-  if (offset) frame.origin = center;
-  // A power of two scales without rounding.
-  if (outsized) frame.scale = std::ldexp(1.0, std::ilogb(size));
-  for (Vec3& p : points) p = (p - frame.origin) / frame.scale;
+  std::vector<int> all(points.size());
+  std::iota(all.begin(), all.end(), 0);
+  const internal::PrincipalAxes fit = internal::principal_axes(points, all);
+  frame.origin = fit.centroid;
+  if (fit.valid) {
+    Eigen::Matrix3d axes;
+    for (int k = 0; k < 3; ++k) axes.col(k) = fit.axes.col(2 - k);
+    for (int k = 0; k < 2; ++k) {
+      double third_moment = 0.0;
+      for (const Vec3& p : points) third_moment += std::pow(axes.col(k).dot(p - frame.origin), 3);
+      if (third_moment < 0.0) axes.col(k) = -axes.col(k);
+    }
+    axes.col(2) = axes.col(0).cross(axes.col(1));
+    frame.axes = axes;
+  }
+  // Relative figures (options, reports) are of the input's bounding-box diagonal: the working
+  // box keeps it. Sides relative to the longest one: a diagonal of coordinates ~1e-300 would
+  // underflow.
+  const Vec3 input_sides = bounding_box(points).sizes();
+  Box turned;
+  for (const Vec3& p : points) turned.extend(Vec3(frame.axes.transpose() * (p - frame.origin)));
+  const Vec3 turned_sides = turned.sizes();
+  const double unit = turned_sides.maxCoeff();
+  if (!(unit > 0.0)) return frame;
+  frame.scale = (turned_sides / unit).norm() / (input_sides / unit).norm();
+  const double size = turned_sides.maxCoeff() / frame.scale;
+  if (size > kSizeRange || size < 1.0 / kSizeRange)
+    frame.scale *= std::ldexp(1.0, std::ilogb(size));
   return frame;
 }
 
 }  // namespace
+
+Vec3 Frame::to_working(const Vec3& p) const { return axes.transpose() * (p - origin) / scale; }
 
 MedialMesh Frame::to_input(MedialMesh mesh) const {
   for (Sphere& s : mesh.spheres) {
@@ -88,7 +115,9 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   report.kept.resize(surface.points.size());
   std::iota(report.kept.begin(), report.kept.end(), 0);
   report.stand_in = report.kept;
-  report.frame = normalize(surface.points);
+  report.frame = working_frame(surface.points);
+  for (Vec3& p : surface.points) p = report.frame.to_working(p);
+  for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
   const bool cloud = !surface.is_mesh();
   const bool denoise = options.denoise != PrepareOptions::Denoise::Off;
 
@@ -199,6 +228,14 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   if (!surface.is_mesh()) report.holes = find_holes(surface.points, surface.normals);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
+}
+
+void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn) {
+  const Eigen::Matrix3d turning =
+      Eigen::AngleAxisd(kTurnRadians * turn, Vec3::Ones().normalized()).toRotationMatrix();
+  report.frame.axes = report.frame.axes * turning;
+  for (Vec3& p : surface.points) p = turning.transpose() * p;
+  for (Vec3& n : surface.normals) n = turning.transpose() * n;
 }
 
 void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options) {

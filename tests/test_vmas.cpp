@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -187,6 +188,47 @@ TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
   EXPECT_EQ(rounds, options.refine.max_moves);
   options.refine.max_moves = -1;
   EXPECT_THROW(skeletonize(box, options), InvalidOption);
+}
+
+// A similarity transform of the input moves the skeleton with it and changes nothing else: the
+// working frame is the shape's own (issue 18). A mesh and a random cloud without normals of a
+// shape with three different spreads (an egg with a bump), so that its principal axes are
+// defined. (The vertices of the mesh as a cloud would not do: their neighbours lie at exactly
+// equal distances, and rounding decides among them.)
+TEST(OneCall, ASkeletonMovesWithItsInput) {
+  const auto bumped = [](const Vec3& p) {
+    return Vec3(p.x() + 0.3 * std::pow(std::max(p.y(), 0.0), 2), 0.6 * p.y(), 0.35 * p.z());
+  };
+  SurfaceInput egg = test::icosphere(Vec3::Zero(), 1.0, 4);
+  for (Vec3& p : egg.points) p = bumped(p);
+  SurfaceInput egg_cloud;
+  for (const Vec3& p : test::sample_sphere(Vec3::Zero(), 1.0, 4000, 7).points)
+    egg_cloud.points.push_back(bumped(p));
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(1.1, Vec3(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+  const double scale = 3.7;
+  const Vec3 offset(5.0, -2.0, 11.0);
+  for (const SurfaceInput* input : {&egg, &egg_cloud}) {
+    SurfaceInput moved = *input;
+    for (Vec3& p : moved.points) p = scale * (rotation * p) + offset;
+    Options options;
+    options.spheres = 12;
+    const Result here = skeletonize(*input, options);
+    const Result there = skeletonize(moved, options);
+    const char* kind = input->is_mesh() ? "mesh" : "cloud";
+    ASSERT_EQ(there.medial_mesh.spheres.size(), here.medial_mesh.spheres.size()) << kind;
+    const double diagonal = test::bounding_diagonal(input->points);
+    for (std::size_t i = 0; i < here.medial_mesh.spheres.size(); ++i) {
+      const Sphere& a = here.medial_mesh.spheres[i];
+      const Sphere& b = there.medial_mesh.spheres[i];
+      const Vec3 back = rotation.transpose() * (b.center - offset) / scale;
+      EXPECT_LT((back - a.center).norm(), 1e-6 * diagonal) << kind << " sphere " << i;
+      EXPECT_NEAR(b.radius / scale, a.radius, 1e-6 * diagonal) << kind << " sphere " << i;
+    }
+    EXPECT_EQ(there.medial_mesh.edges, here.medial_mesh.edges) << kind;
+    EXPECT_EQ(there.skeleton_components, here.skeleton_components) << kind;
+    EXPECT_EQ(there.labels, here.labels) << kind;
+  }
 }
 
 TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {

@@ -29,17 +29,20 @@ struct PrepareOptions {
   void validate() const;  // throws InvalidOption
 };
 
-// A translation and a power-of-two scale: prepared coordinates = (input − origin) / scale.
+// Where the prepared coordinates lie in the input's: working = axesᵀ (input − origin) / scale.
 struct Frame {
   Vec3 origin = Vec3::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: the working axes, in the input
   double scale = 1.0;
-  Vec3 to_input(const Vec3& p) const { return origin + scale * p; }
+  Vec3 to_working(const Vec3& p) const;
+  Vec3 to_input(const Vec3& p) const { return origin + scale * (axes * p); }
+  Vec3 direction_to_input(const Vec3& d) const { return axes * d; }
   // A medial mesh computed from prepared points, back in the input's coordinates.
   MedialMesh to_input(MedialMesh mesh) const;
 };
 
 struct PrepareReport {
-  Frame frame;                  // identity unless the input was far from the origin or outsized
+  Frame frame;                  // the working frame of the prepared points
   std::vector<int> kept;        // input index of every prepared point, ascending
   std::vector<int> stand_in;    // for every input point: the prepared point that stands for it
                                 // (itself, or its voxel's point when thinned; −1: dropped)
@@ -57,12 +60,20 @@ struct PrepareReport {
   bool smoothed() const { return mls_radius > 0.0 || mesh_smoothing_steps > 0; }
 };
 
-// Prepares `surface` in place (see above). Data far from the origin compared with its size
-// (georeferenced scans) or of extreme size is first moved to its bounding-box centre and scaled
-// by a power of two (report.frame; map results back with Frame::to_input), so that no stage
-// loses precision to the offset. A clean mesh is left as it is; a noisy one has its vertices
-// smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when too few points remain.
+// Prepares `surface` in place (see above). The points are first moved to a working frame
+// (report.frame; map results back with Frame::to_input): their centroid at the origin, their
+// principal axes along x, y, z, the bounding-box diagonal kept, a power-of-two scale for data of
+// extreme size. So no stage loses precision to an offset (georeferenced scans), and the skeleton
+// does not depend on how the data was placed: the same shape rotated, moved or scaled gives the
+// same skeleton, rotated, moved and scaled with it. A clean mesh is left as it is; a noisy one has
+// its vertices smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when
+// too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
+
+// Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
+// angle about the frame's diagonal: the same points, in coordinates that round differently (and
+// another start of the optimisation, Options::starts).
+void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn);
 
 // Shrinking-ball settings suited to what preparation left. Smoothed (noisy) data: samples that
 // scatter around the smoothed surface by the residual noise must not shrink a ball, and a ball

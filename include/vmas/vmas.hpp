@@ -30,12 +30,19 @@ const char* version();
 constexpr int kDefaultSpheres = 100;
 
 // Every option of `vmas skeletonize`, with its defaults.
+constexpr int kMaxStarts = 8;
+
 struct Options {
   int spheres = 0;          // spheres to produce, met exactly (0 with error 0: kDefaultSpheres)
   double error = 0.0;       // instead of a count: split until every cluster's RMS error √E(C) is
                             // below this fraction of the diagonal (e.g. 0.005), at most
                             // run.max_spheres (5000) spheres; scan noise sets a floor
   int threads = 0;          // OpenMP threads of this call (0: OpenMP's default, all cores)
+  int starts = 2;           // optimisations, each in its own turn of the working frame
+                            // (turn_working_frame), at most kMaxStarts; the one with the least
+                            // measured error is the result. The optimisation is a local search
+                            // that rounding sends elsewhere: two starts make a poor result rarer
+                            // (1: less time)
   PrepareOptions prepare;   // denoising (auto), outliers, normal estimation and orientation
   ShapeOptions shape;       // k of a cloud's neighbour graph
   SkeletonizerOptions run;  // λ, final refits, convergence, shrinking balls, ...; its
@@ -56,7 +63,8 @@ struct Warning {
 
 struct Timings {  // seconds
   double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
-         split = 0.0, refine = 0.0, connectivity = 0.0, smoothing_check = 0.0, total = 0.0;
+         split = 0.0, refine = 0.0, connectivity = 0.0, other_starts = 0.0, smoothing_check = 0.0,
+         total = 0.0;
 };
 
 // When the noise of a cloud was smoothed and the skeleton came out far from the data
@@ -86,6 +94,8 @@ struct Result {
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
                                 // data (the refinement's measure), fraction of its diagonal
   SmoothingCheck smoothing_check;
+  std::vector<double> start_errors;  // measured_error of every start, in order (Options::starts)
+  int start_kept = 0;                // which of them is the result
   Timings seconds;
   std::vector<Warning> warnings;
 };
