@@ -231,12 +231,40 @@ TEST(OneCall, ASkeletonMovesWithItsInput) {
   }
 }
 
+// Two starts run side by side when the call has two threads, one after the other with one: the
+// same result either way, and the start kept is the one with the least measured error.
+TEST(OneCall, StartsSideBySideOrOneAfterTheOtherGiveTheSameResult) {
+  const SurfaceInput cloud = capsule_cloud();
+  Options options;
+  options.spheres = 6;
+  options.threads = 2;
+  const Result side_by_side = skeletonize(cloud, options);
+  options.threads = 1;
+  const Result in_turn = skeletonize(cloud, options);
+  ASSERT_EQ(side_by_side.medial_mesh.spheres.size(), in_turn.medial_mesh.spheres.size());
+  for (std::size_t i = 0; i < in_turn.medial_mesh.spheres.size(); ++i) {
+    EXPECT_EQ(side_by_side.medial_mesh.spheres[i].center, in_turn.medial_mesh.spheres[i].center);
+    EXPECT_EQ(side_by_side.medial_mesh.spheres[i].radius, in_turn.medial_mesh.spheres[i].radius);
+  }
+  EXPECT_EQ(side_by_side.labels, in_turn.labels);
+  ASSERT_EQ(in_turn.start_errors.size(), 2u);
+  EXPECT_EQ(side_by_side.start_errors, in_turn.start_errors);
+  EXPECT_EQ(in_turn.measured_error, in_turn.start_errors[in_turn.start_kept]);
+  EXPECT_EQ(in_turn.measured_error,
+            *std::min_element(in_turn.start_errors.begin(), in_turn.start_errors.end()));
+  options.starts = 0;
+  EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
+  options.starts = kMaxStarts + 1;
+  EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
+}
+
 TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {
   const SurfaceInput cloud = capsule_cloud();
   const int previous = omp_get_max_threads();
   omp_set_num_threads(1);
   Options options;
   options.spheres = 3;
+  options.starts = 1;  // one optimisation, with every thread of the call
   int seen = 0;
   const auto watch = [&](const Progress&) {
     seen = omp_get_max_threads();
