@@ -105,8 +105,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "diagonal); raised automatically for smoothed scans")
       ("starts", po::value(&values.options.starts)->default_value(defaults.starts),
        "optimisations, each from the shape's own frame turned differently (results do not depend "
-       "on how the input is placed); the one with the least measured error is kept (1: half the "
-       "time)")
+       "on how the input is placed); the one with the least measured error is kept, unless its "
+       "skeleton has more pieces than the input (1: less time)")
       ("threads", po::value(&values.options.threads)->default_value(0), "OpenMP threads (0: all cores)");
   // clang-format on
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <future>
 #include <memory>
+#include <utility>
 #include <string>
 
 #include "vmas/connectivity.hpp"
@@ -309,7 +310,8 @@ int thread_budget(int threads) {
 }
 
 // The input prepared once, and run_pass() on it in each of options.starts turns of the working
-// frame: the pass with the least measured error (the first among equals). With a thread for
+// frame: the pass with the least measured error (the first among equals) among those whose
+// skeleton has no more pieces than the input. With a thread for
 // each, the starts run side by side (the optimisation's serial parts leave cores idle: two starts
 // took 1.3-1.5 times one start's time, against 2 one after the other); the calling thread runs
 // the first and reports its progress, and the others stop when it is cancelled.
@@ -352,12 +354,17 @@ Pass best_start(const SurfaceInput& input, const Options& options,
       if (other.valid()) other.wait();
     throw;
   }
+  // A skeleton in more pieces than the input is wrong whatever its error (split-skeleton).
+  const auto rank = [&](std::size_t k) {
+    const Result& r = runs[k].pass.result;
+    return std::make_pair(r.skeleton_components > r.input_components, r.measured_error);
+  };
   std::vector<double> errors;
   std::size_t best = 0;
   double others_seconds = 0.0;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     errors.push_back(runs[k].pass.result.measured_error);
-    if (errors[k] < errors[best]) best = k;
+    if (rank(k) < rank(best)) best = k;
     others_seconds += runs[k].seconds;
   }
   others_seconds -= runs[best].seconds;

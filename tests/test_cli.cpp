@@ -153,7 +153,7 @@ TEST_F(Cli, AScanWithAHoleIsReportedOpen) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary["holes"]["count"], 0);
-  EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump();
+  EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump() << summary.dump();
   r = run("skeletonize " + path("cut.xyz") + " -n 10 --json -o " + path("cut.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   summary = nlohmann::json::parse(r.out);

@@ -14,6 +14,7 @@
 #include <string>
 #include <utility>
 
+#include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
@@ -574,10 +575,8 @@ TEST(Eval, BadInputsThrow) {
 
 // The paper's Table 1 on the reference medial meshes (ε in % of the diagonal).
 TEST(EvalReference, ReproducesPaperTable1) {
-  const std::string data = VMAS_SHARED_DATA;
-  if (!std::filesystem::exists(data + "/reference")) {
-    GTEST_SKIP() << "shared data not found at " << data;
-  }
+  REQUIRE_SHARED_DATA("reference");
+  const std::string data = test::shared_data();
   struct Case {
     const char* model;
     const char* method;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "io_fixture.hpp"
+#include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
@@ -701,13 +702,8 @@ TEST_F(IoErrors, CorruptedFilesLoadOrThrowIoError) {
 
 class IoRealData : public ::testing::Test {
  protected:
-  void SetUp() override {
-    if (!fs::is_directory(VMAS_SHARED_DATA))
-      GTEST_SKIP() << "shared data not found at " << VMAS_SHARED_DATA;
-  }
-  static std::string data(const std::string& name) {
-    return (fs::path(VMAS_SHARED_DATA) / name).string();
-  }
+  void SetUp() override { REQUIRE_SHARED_DATA(""); }
+  static std::string data(const std::string& name) { return test::shared_data(name); }
 };
 
 TEST_F(IoRealData, Scans) {

@@ -2,13 +2,13 @@
 #include <omp.h>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <random>
-#include <sstream>
 
+#include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
+#include "vmas/io.hpp"
 #include "vmas/kdtree.hpp"
 #include "vmas/normals.hpp"
 
@@ -185,24 +185,15 @@ TEST(NormalsOrient, MissingNormalsBecomeFinite) {
   EXPECT_EQ(count_outward(normals, s.normals), 1000);
 }
 
-// Reads "x y z [nx ny nz]" lines; empty if the file is missing.
-Sample read_xyz(const std::string& path) {
-  Sample s;
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    Vec3 p, n;
-    if (!(fields >> p.x() >> p.y() >> p.z())) continue;
-    s.points.push_back(p);
-    if (fields >> n.x() >> n.y() >> n.z()) s.normals.push_back(n);
-  }
-  return s;
+// A scan of ../shared/data as vmas reads it, as a Sample.
+Sample shared_scan(const std::string& name) {
+  const SurfaceInput surface = read_surface(test::shared_data("scans/" + name));
+  return {surface.points, surface.normals};
 }
 
 TEST(NormalsRealData, RabbitAgreesWithTrustedNormals) {
-  const Sample s = read_xyz(std::string(VMAS_SHARED_DATA) + "/scans/tum_rabbit_normals.xyz");
-  if (s.points.empty()) GTEST_SKIP() << "tum_rabbit_normals.xyz not found in " VMAS_SHARED_DATA;
+  REQUIRE_SHARED_DATA("scans/tum_rabbit_normals.xyz");
+  const Sample s = shared_scan("tum_rabbit_normals.xyz");
   ASSERT_EQ(s.normals.size(), s.points.size());
   const auto normals = estimate_normals(s.points, {});
   const double agreement =
@@ -213,8 +204,8 @@ TEST(NormalsRealData, RabbitAgreesWithTrustedNormals) {
 }
 
 TEST(NormalsRealData, MergedBunnyIsConsistentAndOutward) {
-  const Sample s = read_xyz(std::string(VMAS_SHARED_DATA) + "/scans/bunny_merged_45k.xyz");
-  if (s.points.empty()) GTEST_SKIP() << "bunny_merged_45k.xyz not found in " VMAS_SHARED_DATA;
+  REQUIRE_SHARED_DATA("scans/bunny_merged_45k.xyz");
+  const Sample s = shared_scan("bunny_merged_45k.xyz");
   const auto normals = estimate_normals(s.points, {});
   expect_unit_and_finite(normals);
 

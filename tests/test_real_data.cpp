@@ -12,6 +12,7 @@
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"
+#include "shared_data.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 
@@ -20,15 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string data_path(const std::string& relative) {
-  const char* override_dir = std::getenv("VMAS_SHARED_DATA");
-  return (fs::path(override_dir ? override_dir : VMAS_SHARED_DATA) / relative).string();
-}
-
-#define REQUIRE_DATA(relative)                                       \
-  if (!fs::exists(data_path(relative)))                              \
-    GTEST_SKIP() << "shared data not found: " << data_path(relative) \
-                 << " (set VMAS_SHARED_DATA to the folder holding meshes/ and scans/)";
+using test::shared_data;
 
 // Generalised winding number of a closed mesh at `x`: ≈1 inside, ≈0 outside.
 double winding_number(const SurfaceInput& mesh, const Vec3& x) {
@@ -60,8 +53,8 @@ class RealMesh : public ::testing::TestWithParam<std::pair<const char*, int>> {}
 TEST_P(RealMesh, PaperSphereCountGivesAValidConnectedSkeletonInsideTheShape) {
   const auto [model, spheres] = GetParam();
   const std::string relative = std::string("meshes/") + model + ".off";
-  REQUIRE_DATA(relative);
-  const SurfaceInput surface = read_surface(data_path(relative));
+  REQUIRE_SHARED_DATA(relative);
+  const SurfaceInput surface = read_surface(shared_data(relative));
   SkeletonizerOptions options;
   options.target_spheres = spheres;
   Skeletonizer skeletonizer(build_shape(surface, {}), options);
@@ -80,8 +73,8 @@ INSTANTIATE_TEST_SUITE_P(Models, RealMesh,
 // bug at the paper's count: the run alone leaves a leg tip uncovered (ε 0.96 %); the refinement
 // moves spheres there and the measured error drops, with the count kept.
 TEST(RealMesh, RefinementLowersTheErrorOfBug) {
-  REQUIRE_DATA("meshes/bug.off");
-  const SurfaceInput bug = read_surface(data_path("meshes/bug.off"));
+  REQUIRE_SHARED_DATA("meshes/bug.off");
+  const SurfaceInput bug = read_surface(shared_data("meshes/bug.off"));
   Options options;
   options.spheres = 75;
   const Result refined = skeletonize(bug, options);
@@ -100,11 +93,11 @@ TEST(RealMesh, RefinementLowersTheErrorOfBug) {
 // donors (they used to give the same ball again, and an empty sphere split the skeleton of
 // noisy bug and chair meshes in Table 2; before, one of this test's 8 runs had 3 empty spheres).
 TEST(RealMesh, NoisyMeshesLeaveNoSphereWithoutVertices) {
-  REQUIRE_DATA("meshes/bug.off");
-  REQUIRE_DATA("meshes/chair.off");
+  REQUIRE_SHARED_DATA("meshes/bug.off");
+  REQUIRE_SHARED_DATA("meshes/chair.off");
   int runs = 0;
   for (const auto& [model, spheres] : {std::make_pair("bug", 75), std::make_pair("chair", 117)}) {
-    const SurfaceInput clean = read_surface(data_path(std::string("meshes/") + model + ".off"));
+    const SurfaceInput clean = read_surface(shared_data(std::string("meshes/") + model + ".off"));
     Box box;
     for (const Vec3& p : clean.points) box.extend(p);
     for (const double sigma : {0.02, 0.03}) {
@@ -159,8 +152,8 @@ std::vector<Vec3> sample_area(const SurfaceInput& mesh, int count, unsigned seed
 // them and balls grow out of the shape (ε 17 % against 9.5 % for the points as they are, in
 // Table 2). The skeleton of the unsmoothed points reaches less far past them and is kept.
 TEST(RealCloud, SmoothingThatHarmsAThinShapeIsUndone) {
-  REQUIRE_DATA("meshes/chair.off");
-  const SurfaceInput chair = read_surface(data_path("meshes/chair.off"));
+  REQUIRE_SHARED_DATA("meshes/chair.off");
+  const SurfaceInput chair = read_surface(shared_data("meshes/chair.off"));
   SurfaceInput cloud;
   cloud.points = test::with_noise(sample_area(chair, 30000, 3),
                                   0.02 * test::bounding_diagonal(chair.points), 4);
@@ -180,8 +173,8 @@ TEST(RealCloud, SmoothingThatHarmsAThinShapeIsUndone) {
 }
 
 TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
-  REQUIRE_DATA("scans/bunny_merged_45k.xyz");
-  SurfaceInput cloud = read_surface(data_path("scans/bunny_merged_45k.xyz"));
+  REQUIRE_SHARED_DATA("scans/bunny_merged_45k.xyz");
+  SurfaceInput cloud = read_surface(shared_data("scans/bunny_merged_45k.xyz"));
   ASSERT_FALSE(cloud.has_normals());
   cloud.normals = estimate_normals(cloud.points, {});
   SkeletonizerOptions options;

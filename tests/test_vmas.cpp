@@ -232,7 +232,8 @@ TEST(OneCall, ASkeletonMovesWithItsInput) {
 }
 
 // Two starts run side by side when the call has two threads, one after the other with one: the
-// same result either way, and the start kept is the one with the least measured error.
+// same result either way, and the start kept is the one with the least measured error (neither
+// splits this capsule's skeleton).
 TEST(OneCall, StartsSideBySideOrOneAfterTheOtherGiveTheSameResult) {
   const SurfaceInput cloud = capsule_cloud();
   Options options;

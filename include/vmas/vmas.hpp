@@ -40,7 +40,8 @@ struct Options {
   int threads = 0;          // OpenMP threads of this call (0: OpenMP's default, all cores)
   int starts = 2;           // optimisations, each in its own turn of the working frame
                             // (turn_working_frame), at most kMaxStarts; the one with the least
-                            // measured error is the result. The optimisation is a local search
+                            // measured error whose skeleton has no more pieces than the input is
+                            // the result. The optimisation is a local search
                             // that rounding sends elsewhere: two starts make a poor result rarer
                             // (1: less time)
   PrepareOptions prepare;   // denoising (auto), outliers, normal estimation and orientation

@@ -14,6 +14,7 @@
 #include <memory>
 #include <random>
 
+#include "../shared_data.hpp"
 #include "vmas/io.hpp"
 #include "vmas/prepare.hpp"
 #include "vmas/skeletonizer.hpp"
@@ -25,10 +26,7 @@ constexpr int kSpheres = 200;
 constexpr int kScanPoints = 1000000;
 
 std::string data_path(const std::string& model = "vessel") {
-  const char* override_dir = std::getenv("VMAS_SHARED_DATA");
-  return (std::filesystem::path(override_dir ? override_dir : VMAS_SHARED_DATA) / "meshes" /
-          (model + ".off"))
-      .string();
+  return vmas::test::shared_data("meshes/" + model + ".off");
 }
 
 // Area-weighted uniform samples of a mesh's faces, without normals (fixed seed).
