@@ -158,6 +158,15 @@ TEST(Refine, KeepsOnlyMovesThatLowerTheMeasuredErrorAndTheExactCount) {
   EXPECT_LE(skeletonize(box, options).refine.tried, 1);
 }
 
+// The two results have the same spheres, bit for bit.
+void expect_same_spheres(const Result& a, const Result& b) {
+  ASSERT_EQ(a.medial_mesh.spheres.size(), b.medial_mesh.spheres.size());
+  for (std::size_t i = 0; i < a.medial_mesh.spheres.size(); ++i) {
+    EXPECT_EQ(a.medial_mesh.spheres[i].center, b.medial_mesh.spheres[i].center);
+    EXPECT_EQ(a.medial_mesh.spheres[i].radius, b.medial_mesh.spheres[i].radius);
+  }
+}
+
 TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
   const SurfaceInput box = box_cloud();
   Options options;
@@ -166,11 +175,7 @@ TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
   const Result one = skeletonize(box, options);
   options.threads = 2;
   const Result two = skeletonize(box, options);
-  ASSERT_EQ(one.medial_mesh.spheres.size(), two.medial_mesh.spheres.size());
-  for (std::size_t i = 0; i < one.medial_mesh.spheres.size(); ++i) {
-    EXPECT_EQ(one.medial_mesh.spheres[i].center, two.medial_mesh.spheres[i].center);
-    EXPECT_EQ(one.medial_mesh.spheres[i].radius, two.medial_mesh.spheres[i].radius);
-  }
+  expect_same_spheres(one, two);
   EXPECT_EQ(one.medial_mesh.edges, two.medial_mesh.edges);
   EXPECT_EQ(one.refine.kept, two.refine.kept);
 
@@ -242,11 +247,7 @@ TEST(OneCall, StartsSideBySideOrOneAfterTheOtherGiveTheSameResult) {
   const Result side_by_side = skeletonize(cloud, options);
   options.threads = 1;
   const Result in_turn = skeletonize(cloud, options);
-  ASSERT_EQ(side_by_side.medial_mesh.spheres.size(), in_turn.medial_mesh.spheres.size());
-  for (std::size_t i = 0; i < in_turn.medial_mesh.spheres.size(); ++i) {
-    EXPECT_EQ(side_by_side.medial_mesh.spheres[i].center, in_turn.medial_mesh.spheres[i].center);
-    EXPECT_EQ(side_by_side.medial_mesh.spheres[i].radius, in_turn.medial_mesh.spheres[i].radius);
-  }
+  expect_same_spheres(side_by_side, in_turn);
   EXPECT_EQ(side_by_side.labels, in_turn.labels);
   ASSERT_EQ(in_turn.start_errors.size(), 2u);
   EXPECT_EQ(side_by_side.start_errors, in_turn.start_errors);
