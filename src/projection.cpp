@@ -1,11 +1,13 @@
 #include "vmas/projection.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "exterior.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -24,6 +26,14 @@ constexpr double kInside = 0.25;
 // Outside balls are rejected on data whose enclosure is at least this: smoothed closed shapes
 // with thin parts read well below kEnclosed, single-view scans lower still.
 constexpr double kRejectionEnclosure = 0.3;
+// The exterior grid's sample spacing, in support radii √A(v) of the points (the mean distance to
+// the 6 nearest): about the distance to the sixth nearest.
+constexpr double kSpacingInSupportRadii = 1.3;
+// The grid is dropped when, at more than this fraction of the enclosure's probe points, the
+// empty balls on both sides have their centre outside it: the fill has reached the inside
+// through a hole or an open side (on closed data one of the two is inside, or in the wall of a
+// thin part).
+constexpr double kMostProbesOutside = 0.2;
 // Smallest radius of a ball, relative to the diagonal.
 constexpr double kMinRadius = 1e-6;
 }  // namespace
@@ -75,8 +85,19 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
   }
   // Inside and outside mean something only for data that encloses a volume.
   enclosure_ = measure_enclosure();
+  // A cloud's normals can be wrong where estimation fails (thin parts, sparse or noisy samples),
+  // and so can the winding number built on them; the voxels the samples wall off are not.
+  if (!shape.is_mesh) {
+    double spacing = 0.0;
+    for (double a : shape.area) spacing += std::sqrt(a);
+    spacing *= kSpacingInSupportRadii / std::max(1, shape.size());
+    exterior_ = std::make_unique<internal::ExteriorGrid>(shape.points, spacing);
+    if (!exterior_encloses()) exterior_.reset();
+  }
   reject_outside_ = options_.reject_outside && enclosure_ >= kRejectionEnclosure;
 }
+
+MedialProjector::~MedialProjector() = default;
 
 double MedialProjector::radius_limit(const Vec3& p, const Vec3& inward) const {
   // Per axis, centre ± radius within [low, high]: p + r·d + r ≤ high and p + r·d − r ≥ low.
@@ -110,11 +131,29 @@ double MedialProjector::winding_number(const Vec3& q) const {
   return sum / (4.0 * M_PI);
 }
 
-double MedialProjector::measure_enclosure() const {
+bool MedialProjector::exterior_encloses() const {
+  const std::vector<int> probes = enclosure_probes();
+  std::size_t leaked = 0;
+  int contact = -1;
+  for (int vertex : probes) {
+    const Vec3& n = shape_.normals[vertex];
+    if (exterior_->outside(shrink_along(vertex, n, contact).center) &&
+        exterior_->outside(shrink_along(vertex, -n, contact).center))
+      ++leaked;
+  }
+  return !probes.empty() && leaked <= kMostProbesOutside * probes.size();
+}
+
+std::vector<int> MedialProjector::enclosure_probes() const {
   const int count = shape_.size();
   const int stride = std::max(1, count / kEnclosureProbes);
   std::vector<int> probes;
   for (int vertex = 0; vertex < count; vertex += stride) probes.push_back(vertex);
+  return probes;
+}
+
+double MedialProjector::measure_enclosure() const {
+  const std::vector<int> probes = enclosure_probes();
   std::vector<double> winding(probes.size(), 0.0);
 #pragma omp parallel for schedule(static)
   for (std::size_t c = 0; c < probes.size(); ++c) {
@@ -138,10 +177,9 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
   int reverse_contact = -1;
   const Sphere reverse = shrink_along(vertex, -inward, reverse_contact);
   if (seen_from_inside(reverse, reverse_contact)) return reverse;
-  // Both balls are outside a closed shape (noise flipped the normals around a thin part): a
-  // ball as small as the tolerance, just inside the surface, is not right either, but it does
-  // not stick out.
-  if (reject_outside_) {
+  // Both balls are outside a closed shape (normals flipped around a thin part): a ball as small
+  // as the tolerance, just inside the surface, is not right either, but it does not stick out.
+  if (reject_outside_ || exterior_) {
     const double radius = std::max(options_.tolerance, kMinRadius) * shape_.diagonal;
     return Sphere{shape_.points[vertex] - radius * shape_.normals[vertex], radius};
   }
@@ -150,6 +188,7 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
 
 bool MedialProjector::seen_from_inside(const Sphere& ball, int contact) const {
   return contact >= 0 && shape_.normals[contact].dot(shape_.points[contact] - ball.center) > 0.0 &&
+         (!exterior_ || !exterior_->outside(ball.center)) &&
          (!reject_outside_ || winding_number(ball.center) > kInside);
 }
 

@@ -2,6 +2,7 @@
 // Projection onto the medial axis (paper §3.3, "Sphere projection") by the shrinking-ball
 // algorithm (Ma, Bae, Choi 2012) over an exact KD-tree of the input points, with the
 // separation-angle denoising of Peters & Ledoux (2016).
+#include <memory>
 #include <vector>
 
 #include "vmas/kdtree.hpp"
@@ -22,9 +23,14 @@ struct ShrinkingBallOptions {
   void validate() const;            // throws InvalidOption
 };
 
+namespace internal {
+class ExteriorGrid;
+}
+
 class MedialProjector {
  public:
   MedialProjector(const Shape& shape, const ShrinkingBallOptions& options);
+  ~MedialProjector();
 
   // The largest empty ball touching `vertex` whose centre lies along the unit `inward` direction
   // (or along −inward when that side is the outside: a flipped normal).
@@ -57,7 +63,7 @@ class MedialProjector {
   // One shrinking-ball run; `contact` is the sample that last shrank the ball (-1: none).
   Sphere shrink_along(int vertex, const Vec3& inward, int& contact) const;
   // Whether the ball lies inside the surface at its contact (the contact's normal points away
-  // from the centre), as a medial ball must.
+  // from the centre), as a medial ball must, and (clouds) its centre is not in the exterior grid.
   bool seen_from_inside(const Sphere& ball, int contact) const;
 
   // The largest radius of a ball touching `p` with its centre along `inward` that stays inside
@@ -66,6 +72,9 @@ class MedialProjector {
   double radius_limit(const Vec3& p, const Vec3& inward) const;
 
   double measure_enclosure() const;
+  std::vector<int> enclosure_probes() const;  // evenly spread vertices
+  // Whether the exterior grid walls the inside off (no hole lets its fill in).
+  bool exterior_encloses() const;
 
   struct BlockDipole {  // the vertices of one of shape.blocks seen from afar
     Vec3 center;        // area-weighted
@@ -80,6 +89,8 @@ class MedialProjector {
   Vec3 box_low_, box_high_;  // bounding box grown by the margin
   std::vector<BlockDipole> dipoles_;
   bool reject_outside_ = false;  // balls with an outside centre are rejected
+  // Clouds whose samples wall an inside off: the voxels outside them (vmas/src/exterior.hpp).
+  std::unique_ptr<internal::ExteriorGrid> exterior_;
   double enclosure_ = 0.0;
 };
 
