@@ -1,6 +1,7 @@
 #include "vmas/projection.hpp"
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <cmath>
 #include <limits>
@@ -29,9 +30,13 @@ constexpr double kRejectionEnclosure = 0.3;
 // The exterior grid's sample spacing, in support radii √A(v) of the points (the mean distance to
 // the 6 nearest): about the distance to the sixth nearest.
 constexpr double kSpacingInSupportRadii = 1.3;
-// The grid is dropped when, at more than this fraction of the enclosure's probe points, the
+// Cells of the exterior grids, in sample spacings. The coarser walls have no gap where samples
+// are a spacing apart, but also close narrow gaps between parts (an ear against a head) into
+// pockets that the fill misses; the finer ones leave those open where the sampling is dense.
+constexpr std::array<double, 2> kExteriorCellsInSpacings = {1.0, 0.75};
+// A grid is dropped when, at more than this fraction of the enclosure's probe points, the
 // empty balls on both sides have their centre outside it: the fill has reached the inside
-// through a hole or an open side (on closed data one of the two is inside, or in the wall of a
+// through a gap in its walls, a hole or an open side (on closed data one of the two is inside, or in the wall of a
 // thin part).
 constexpr double kMostProbesOutside = 0.2;
 // Smallest radius of a ball, relative to the diagonal.
@@ -91,8 +96,10 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
     double spacing = 0.0;
     for (double a : shape.area) spacing += std::sqrt(a);
     spacing *= kSpacingInSupportRadii / std::max(1, shape.size());
-    exterior_ = std::make_unique<internal::ExteriorGrid>(shape.points, spacing);
-    if (!exterior_encloses()) exterior_.reset();
+    for (double cells : kExteriorCellsInSpacings) {
+      auto grid = std::make_unique<internal::ExteriorGrid>(shape.points, cells * spacing);
+      if (walls_inside_off(*grid)) exteriors_.push_back(std::move(grid));
+    }
   }
   reject_outside_ = options_.reject_outside && enclosure_ >= kRejectionEnclosure;
 }
@@ -131,14 +138,14 @@ double MedialProjector::winding_number(const Vec3& q) const {
   return sum / (4.0 * M_PI);
 }
 
-bool MedialProjector::exterior_encloses() const {
+bool MedialProjector::walls_inside_off(const internal::ExteriorGrid& grid) const {
   const std::vector<int> probes = enclosure_probes();
   std::size_t leaked = 0;
   int contact = -1;
   for (int vertex : probes) {
     const Vec3& n = shape_.normals[vertex];
-    if (exterior_->outside(shrink_along(vertex, n, contact).center) &&
-        exterior_->outside(shrink_along(vertex, -n, contact).center))
+    if (grid.outside(shrink_along(vertex, n, contact).center) &&
+        grid.outside(shrink_along(vertex, -n, contact).center))
       ++leaked;
   }
   return !probes.empty() && leaked <= kMostProbesOutside * probes.size();
@@ -179,7 +186,7 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
   if (seen_from_inside(reverse, reverse_contact)) return reverse;
   // Both balls are outside a closed shape (normals flipped around a thin part): a ball as small
   // as the tolerance, just inside the surface, is not right either, but it does not stick out.
-  if (reject_outside_ || exterior_) {
+  if (reject_outside_ || !exteriors_.empty()) {
     const double radius = std::max(options_.tolerance, kMinRadius) * shape_.diagonal;
     return Sphere{shape_.points[vertex] - radius * shape_.normals[vertex], radius};
   }
@@ -188,7 +195,8 @@ Sphere MedialProjector::shrink(int vertex, const Vec3& inward) const {
 
 bool MedialProjector::seen_from_inside(const Sphere& ball, int contact) const {
   return contact >= 0 && shape_.normals[contact].dot(shape_.points[contact] - ball.center) > 0.0 &&
-         (!exterior_ || !exterior_->outside(ball.center)) &&
+         std::none_of(exteriors_.begin(), exteriors_.end(),
+                      [&](const auto& grid) { return grid->outside(ball.center); }) &&
          (!reject_outside_ || winding_number(ball.center) > kInside);
 }
 

@@ -73,8 +73,8 @@ class MedialProjector {
 
   double measure_enclosure() const;
   std::vector<int> enclosure_probes() const;  // evenly spread vertices
-  // Whether the exterior grid walls the inside off (no hole lets its fill in).
-  bool exterior_encloses() const;
+  // Whether `grid` walls the inside off (no gap lets its fill in).
+  bool walls_inside_off(const internal::ExteriorGrid& grid) const;
 
   struct BlockDipole {  // the vertices of one of shape.blocks seen from afar
     Vec3 center;        // area-weighted
@@ -89,8 +89,9 @@ class MedialProjector {
   Vec3 box_low_, box_high_;  // bounding box grown by the margin
   std::vector<BlockDipole> dipoles_;
   bool reject_outside_ = false;  // balls with an outside centre are rejected
-  // Clouds whose samples wall an inside off: the voxels outside them (vmas/src/exterior.hpp).
-  std::unique_ptr<internal::ExteriorGrid> exterior_;
+  // Clouds: the voxels outside the samples, at the cell sizes whose walls shut the inside off
+  // (src/exterior.hpp).
+  std::vector<std::unique_ptr<internal::ExteriorGrid>> exteriors_;
   double enclosure_ = 0.0;
 };
 
