@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <memory>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,8 +36,8 @@ constexpr double kSpacingInSupportRadii = 1.3;
 constexpr std::array<double, 2> kExteriorCellsInSpacings = {1.0, 0.75};
 // A grid is dropped when, at more than this fraction of the enclosure's probe points, the
 // empty balls on both sides have their centre outside it: the fill has reached the inside
-// through a gap in its walls, a hole or an open side (on closed data one of the two is inside, or in the wall of a
-// thin part).
+// through a gap in its walls, a hole or an open side (on closed data one of the two is inside,
+// or in the wall of a thin part).
 constexpr double kMostProbesOutside = 0.2;
 // Smallest radius of a ball, relative to the diagonal.
 constexpr double kMinRadius = 1e-6;
