@@ -38,8 +38,9 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
         for (int dx = -1; dx <= 1; ++dx)
           state_[(z + dz) * layer + static_cast<std::size_t>(y + dy) * nx_ + (x + dx)] = kWall;
   }
-  // Breadth-first over face neighbours from a corner (the margin is free all round).
-  std::vector<std::size_t> queue{0};
+  // Breadth-first over face neighbours from a corner (the margin is free all round); 32-bit
+  // indices halve the queue, which can hold most of the cells.
+  std::vector<std::uint32_t> queue{0};
   state_[0] = kOutside;
   for (std::size_t head = 0; head < queue.size(); ++head) {
     const std::size_t i = queue[head];
@@ -57,7 +58,7 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
       const std::size_t j = i + offset;
       if (state_[j] != kFree) continue;
       state_[j] = kOutside;
-      queue.push_back(j);
+      queue.push_back(static_cast<std::uint32_t>(j));
     }
   }
 }

@@ -153,7 +153,10 @@ std::vector<Vec3> sample_area(const SurfaceInput& mesh, int count, unsigned seed
 // The chair's seat, back and legs are thinner than noise of 2 % of the diagonal: smoothing merges
 // them and balls grow out of the shape (ε 17 % against 9.5 % for the points as they are, in
 // Table 2). The skeleton of the unsmoothed points reaches less far past them and is kept.
-TEST(RealCloud, SmoothingThatHarmsAThinShapeIsUndone) {
+TEST(RealCloud, SmoothingAThinNoisyShapeIsNoWorseThanTakingItsPointsAsTheyAre) {
+  // The chair at σ = 2 %: smoothing folds its legs and back onto single sheets. Before the
+  // exterior grids its skeleton then bulged out between the legs and the smoothing check took the
+  // points as they are; now the smoothed skeleton stays inside and is kept (6.8 % against 8.3 %).
   REQUIRE_SHARED_DATA("meshes/chair.off");
   const SurfaceInput chair = read_surface(shared_data("meshes/chair.off"));
   SurfaceInput cloud;
@@ -161,15 +164,12 @@ TEST(RealCloud, SmoothingThatHarmsAThinShapeIsUndone) {
                                   0.02 * test::bounding_diagonal(chair.points), 4);
   Options options;
   options.spheres = 117;
-  options.starts = 1;  // the check is what is tested (two starts take twice as long in CI's
-                       // sanitized build)
+  options.starts = 1;  // one start is enough for the property (two double CI's sanitized time)
   const Result result = skeletonize(cloud, options);
-  const SmoothingCheck& check = result.smoothing_check;
-  ASSERT_TRUE(check.made);
-  EXPECT_FALSE(check.smoothing_kept);
-  EXPECT_LT(check.unsmoothed_reach, check.smoothed_reach);
-  EXPECT_FALSE(result.prepare.smoothed());
   EXPECT_GT(result.prepare.noise.sigma, 0.01 * result.prepare.diagonal);  // as measured
+  EXPECT_TRUE(result.prepare.smoothed());
+  const SmoothingCheck& check = result.smoothing_check;
+  if (check.made) EXPECT_EQ(check.smoothing_kept, check.smoothed_reach <= check.unsmoothed_reach);
   options.prepare.denoise = PrepareOptions::Denoise::Off;
   const double as_they_are = evaluate(chair, skeletonize(cloud, options).medial_mesh).hausdorff;
   const EvalResult chosen = evaluate(chair, result.medial_mesh);
