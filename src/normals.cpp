@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "disjoint_sets.hpp"
+#include "sphere_lattice.hpp"
 #include "principal_axes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
@@ -153,15 +154,10 @@ std::vector<std::vector<int>> spanning_forest(const std::vector<Vec3>& points,
   return forest;
 }
 
-// Directions spread evenly over the sphere (Fibonacci lattice).
+// Directions spread evenly over the sphere.
 std::vector<Vec3> sphere_directions(int count) {
-  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
   std::vector<Vec3> directions(count);
-  for (int i = 0; i < count; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / count;
-    const double r = std::sqrt(1.0 - z * z);
-    directions[i] = Vec3(r * std::cos(golden_angle * i), r * std::sin(golden_angle * i), z);
-  }
+  for (int i = 0; i < count; ++i) directions[i] = internal::fibonacci_direction(i, count);
   return directions;
 }
 

@@ -9,6 +9,7 @@
 
 #include "vmas/connectivity.hpp"
 #include "vmas/error.hpp"
+#include "eval/envelope.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/partition.hpp"
 

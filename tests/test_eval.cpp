@@ -17,6 +17,7 @@
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
+#include "eval/envelope.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 

@@ -9,7 +9,6 @@
 //     primitive, the distance to the input mesh (to the nearest input point for a cloud).
 // ε (hausdorff) is the larger of the two maxima; percent() expresses it relative to the input's
 // bounding-box diagonal as the paper does.
-#include <array>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -86,31 +85,5 @@ class Evaluator {
 // that is negative or not finite.
 EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
                     const EvalOptions& options = {});
-
-// Samples on the boundary of the reconstruction: points of sphere surfaces, cone lateral surfaces
-// and slab tangent triangles, `spacing` apart, that are not deeper than `tolerance` inside any
-// other primitive. Validates `medial` like evaluate().
-std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance);
-
-// Surface -> medial distance of each point: the smallest unsigned distance to the boundary of
-// any primitive, as evaluate() measures it. Validates `medial` like evaluate().
-std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points);
-
-// Exact signed distance to the round cone spanned by two spheres (negative inside). When one
-// sphere contains the other the cone is the bigger sphere.
-double round_cone_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b);
-
-// Signed distance to the slab spanned by three spheres: outside, the exact distance; inside, a
-// negative value whose magnitude is at most the depth (the depth inside the deepest interpolated
-// sphere), so its sign is an exact inside test.
-double slab_signed_distance(const Vec3& p, const Sphere& a, const Sphere& b, const Sphere& c);
-
-// The two triangles tangent to all three spheres (vertices are the tangent points, in the order
-// a, b, c). False when they do not exist: collinear centres, or one sphere inside another.
-bool slab_tangent_triangles(const Sphere& a, const Sphere& b, const Sphere& c,
-                            std::array<std::array<Vec3, 3>, 2>& triangles);
-
-// Euclidean distance from p to the triangle abc (degenerate triangles allowed).
-double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace vmas

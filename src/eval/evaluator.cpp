@@ -1,0 +1,370 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include "eval/envelope.hpp"
+#include "eval/shape_distance.hpp"
+#include "vmas/error.hpp"
+#include "vmas/eval.hpp"
+
+namespace vmas {
+
+namespace internal {
+
+// What the last measured reconstruction left to reuse: distances and visibility depend only on
+// the primitives involved, which are recognised by their keys (Envelope::piece_key, solid_key).
+struct SurfaceSideCache {                    // surface -> medial
+  std::vector<double> distance;              // of every surface sample, exact
+  std::vector<std::uint64_t> nearest;        // the key of the piece at that distance
+  std::unordered_set<std::uint64_t> pieces;  // keys of every piece then
+};
+
+constexpr std::uint64_t kUnknown = 0;  // a sample's hider not yet looked for
+constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();  // a visible sample
+
+struct PieceSamples {  // medial -> surface: the uniform samples of one boundary piece
+  std::vector<Vec3> points;
+  std::vector<std::uint64_t> hider;  // key of a solid the sample is hidden in; kNone, kUnknown
+  std::vector<double> distance;      // to the input, exact; NaN until needed
+};
+
+}  // namespace internal
+
+using internal::BoundarySamples;
+using internal::Bvh;
+using internal::Envelope;
+using internal::kInfinity;
+using internal::kNone;
+using internal::kUnknown;
+using internal::PieceSamples;
+using internal::ShapeDistance;
+using internal::SurfaceSideCache;
+
+namespace {
+
+// Boundary samples of one measurement at most (a few hundred bytes each while measured).
+constexpr double kMaxBoundarySamples = 5e5;
+
+std::pair<double, double> max_and_mean(const std::vector<double>& values) {
+  double max = 0.0, sum = 0.0;
+  for (double v : values) {
+    max = std::max(max, v);
+    sum += v;
+  }
+  return {max, values.empty() ? 0.0 : sum / static_cast<double>(values.size())};
+}
+
+// The point with the largest value (the first of equals); the origin when there is none.
+Vec3 worst_point(const std::vector<Vec3>& points, const std::vector<double>& values) {
+  if (values.empty()) return Vec3::Zero();
+  return points[std::max_element(values.begin(), values.end()) - values.begin()];
+}
+
+// The primitives of `envelope` not among `known` keys, with a tree over their boxes.
+struct FreshPrimitives {
+  std::vector<int> ids;
+  std::vector<Box> boxes;
+  std::optional<Bvh> tree;  // refers to boxes
+};
+
+template <class KeyOf, class BoxOf>
+void find_fresh(int count, const std::unordered_set<std::uint64_t>& known, KeyOf key_of,
+                BoxOf box_of, FreshPrimitives& fresh) {
+  for (int id = 0; id < count; ++id) {
+    if (known.count(key_of(id))) continue;
+    fresh.ids.push_back(id);
+    fresh.boxes.push_back(box_of(id));
+  }
+  fresh.tree.emplace(fresh.boxes);
+}
+
+// A solid that hides each sample of `flat` (into by_piece): looked for anew when the sample's
+// hider is unknown or gone; a visible sample can only be hidden by a fresh solid.
+void find_hiders(const Envelope& envelope, const FreshPrimitives& fresh_solids,
+                 const std::unordered_set<std::uint64_t>& solids_now,
+                 const std::vector<std::pair<PieceSamples*, int>>& by_piece,
+                 const std::vector<std::pair<int, int>>& flat, double tolerance) {
+  const auto flat_count = static_cast<std::ptrdiff_t>(flat.size());
+#pragma omp parallel
+  {
+    // Neighbouring samples of a piece are mostly hidden by the same solid. Which hider a sample
+    // records does not matter: only whether it has one while that solid is there.
+    int last_hider = -1;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
+      PieceSamples& entry = *by_piece[flat[f].first].first;
+      const int piece = by_piece[flat[f].first].second, j = flat[f].second;
+      const Vec3& p = entry.points[j];
+      std::uint64_t& hider = entry.hider[j];
+      if (hider != kUnknown && hider != kNone && solids_now.count(hider)) continue;
+      if (hider == kNone) {
+        const int owner = envelope.owner_solid(piece);
+        fresh_solids.tree->any_containing(p, [&](int k) {
+          const int id = fresh_solids.ids[k];
+          if (id == owner || !envelope.deep_inside(id, p, tolerance)) return false;
+          hider = envelope.solid_key(id);
+          return true;
+        });
+        continue;
+      }
+      const int id = envelope.hider(p, piece, tolerance, last_hider);
+      hider = id < 0 ? kNone : envelope.solid_key(id);
+      if (id >= 0) last_hider = id;
+    }
+  }
+}
+
+}  // namespace
+
+void EvalOptions::validate() const {
+  if (surface_samples < -1) {
+    throw InvalidOption("surface_samples must be -1 (as many as vertices) or >= 0");
+  }
+  if (!(boundary_spacing >= 1e-4 && boundary_spacing <= 0.1)) {
+    throw InvalidOption("boundary_spacing must be in [1e-4, 0.1] (fraction of the diagonal)");
+  }
+  if (refined_samples < 1 || refined_samples > 100000) {
+    throw InvalidOption("refined_samples must be in [1, 100000]");
+  }
+  if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
+    throw InvalidOption("inside_tolerance must be in [0, 0.01] (fraction of the diagonal)");
+  }
+}
+
+// Hidden like the stages it holds.
+struct __attribute__((visibility("hidden"))) Evaluator::Impl {
+  Impl(const SurfaceInput& shape, const EvalOptions& options)
+      : options(options), shape(shape), distance(shape) {}
+
+  // Surface -> medial distance of every sample, exact.
+  const std::vector<double>& surface_side(const Envelope& envelope);
+  // Medial -> surface at the visible uniform samples `spacing` apart: their points and pieces,
+  // and their distances to the input.
+  void boundary_side(const Envelope& envelope, double spacing, double tolerance,
+                     BoundarySamples& boundary, std::vector<double>& to_surface);
+
+  EvalOptions options;
+  const SurfaceInput& shape;
+  double diagonal = 0.0;
+  std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
+  ShapeDistance distance;     // medial -> surface
+  SurfaceSideCache surface_cache;
+  std::unordered_map<std::uint64_t, PieceSamples> boundary_cache;  // by piece key
+  std::unordered_set<std::uint64_t> solids;  // keys of every solid of the last reconstruction
+};
+
+namespace {
+
+// Validates before the Impl builds anything from the shape.
+const SurfaceInput& checked(const SurfaceInput& shape, const EvalOptions& options) {
+  options.validate();
+  internal::check_shape(shape);
+  return shape;
+}
+
+}  // namespace
+
+Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
+    : impl_(std::make_unique<Impl>(checked(shape, options), options)) {
+  Box bounds;
+  for (const Vec3& p : shape.points) bounds.extend(p);
+  impl_->diagonal = bounds.diagonal().norm();
+  if (!std::isfinite(impl_->diagonal) || !(impl_->diagonal > 0.0)) {
+    throw InvalidInput("shape has a non-finite coordinate or no extent");
+  }
+  const int random_count =
+      options.surface_samples < 0 ? static_cast<int>(shape.points.size()) : options.surface_samples;
+  impl_->samples = internal::surface_samples(shape, random_count, options.seed);
+}
+
+Evaluator::~Evaluator() = default;
+
+EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
+                    const EvalOptions& options) {
+  return Evaluator(shape, options)(medial);
+}
+
+// A sample whose nearest piece is still there is at most as far as before, and only the new
+// pieces can be nearer.
+const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope) {
+  const bool reuse = !surface_cache.distance.empty();
+  FreshPrimitives fresh_pieces;
+  if (reuse)
+    find_fresh(
+        envelope.piece_count(), surface_cache.pieces,
+        [&](int id) { return envelope.piece_key(id); },
+        [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
+  std::unordered_set<std::uint64_t> pieces_now;
+  for (int id = 0; id < envelope.piece_count(); ++id) pieces_now.insert(envelope.piece_key(id));
+  surface_cache.distance.resize(samples.size());
+  surface_cache.nearest.resize(samples.size());
+  const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t i = 0; i < sample_count; ++i) {
+    const Vec3& p = samples[i];
+    double& d = surface_cache.distance[i];
+    std::uint64_t& nearest = surface_cache.nearest[i];
+    if (reuse && pieces_now.count(nearest)) {
+      int item = -1;
+      const double fresh = fresh_pieces.tree->nearest(
+          p, [&](int k) { return envelope.piece_distance(fresh_pieces.ids[k], p); }, -kInfinity,
+          &item);
+      if (fresh < d) {
+        d = fresh;
+        nearest = envelope.piece_key(fresh_pieces.ids[item]);
+      }
+    } else {
+      int piece = -1;
+      d = envelope.nearest_piece(p, piece);
+      nearest = envelope.piece_key(piece);
+    }
+  }
+  surface_cache.pieces = std::move(pieces_now);
+  return surface_cache.distance;
+}
+
+// The uniform samples of a piece that was already there keep their distance, and their hider
+// while it is there.
+void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, double tolerance,
+                                    BoundarySamples& boundary, std::vector<double>& to_surface) {
+  FreshPrimitives fresh_solids;
+  find_fresh(
+      envelope.solid_count(), solids, [&](int id) { return envelope.solid_key(id); },
+      [&](int id) { return envelope.solid_box(id); }, fresh_solids);
+  std::unordered_set<std::uint64_t> solids_now;
+  for (int id = 0; id < envelope.solid_count(); ++id) solids_now.insert(envelope.solid_key(id));
+  std::unordered_map<std::uint64_t, PieceSamples> pieces;
+  std::vector<std::pair<PieceSamples*, int>> by_piece;  // in piece order
+  std::vector<std::pair<int, int>> flat;                // (index into by_piece, sample) to look at
+  for (int piece = 0; piece < envelope.piece_count(); ++piece) {
+    const std::uint64_t key = envelope.piece_key(piece);
+    const auto [entry, first] = pieces.try_emplace(key);
+    by_piece.emplace_back(&entry->second, piece);
+    // Two coincident spheres give identical pieces: their samples are looked at once (a sample
+    // on one is not inside the other).
+    if (!first) continue;
+    const auto known = boundary_cache.find(key);
+    if (known != boundary_cache.end()) {
+      entry->second = std::move(known->second);
+    } else {
+      BoundarySamples sampled;
+      envelope.sample_piece(piece, spacing, sampled);
+      entry->second.points = std::move(sampled.points);
+      entry->second.hider.assign(entry->second.points.size(), kUnknown);
+      entry->second.distance.assign(entry->second.points.size(),
+                                    std::numeric_limits<double>::quiet_NaN());
+    }
+    for (int j = 0; j < static_cast<int>(entry->second.points.size()); ++j)
+      flat.emplace_back(static_cast<int>(by_piece.size()) - 1, j);
+  }
+  find_hiders(envelope, fresh_solids, solids_now, by_piece, flat, tolerance);
+  std::vector<double*> distances;
+  for (const auto& [entry, piece] : by_piece)
+    for (std::size_t j = 0; j < entry->points.size(); ++j) {
+      if (entry->hider[j] != kNone) continue;
+      boundary.points.push_back(entry->points[j]);
+      boundary.pieces.push_back(piece);
+      distances.push_back(&entry->distance[j]);
+    }
+  std::vector<Vec3> unmeasured;  // visible samples without a distance yet, each once
+  std::vector<double*> slots;
+  for (auto& [key, entry] : pieces)
+    for (std::size_t j = 0; j < entry.points.size(); ++j) {
+      if (entry.hider[j] != kNone || !std::isnan(entry.distance[j])) continue;
+      unmeasured.push_back(entry.points[j]);
+      slots.push_back(&entry.distance[j]);
+    }
+  const std::vector<double> measured = distance(unmeasured);
+  for (std::size_t k = 0; k < slots.size(); ++k) *slots[k] = measured[k];
+  to_surface.resize(distances.size());
+  for (std::size_t i = 0; i < distances.size(); ++i) to_surface[i] = *distances[i];
+  boundary_cache = std::move(pieces);
+  solids = std::move(solids_now);
+}
+
+namespace {
+
+// The distance to the input is 1-Lipschitz, so the maximum can only exceed a sample's value by
+// the spacing: refined (twice, 4x finer) around the samples with the largest distances that
+// could still hold it. The uniform samples and their distances go to `result` first.
+void refine_medial_to_surface_max(const Envelope& envelope, const ShapeDistance& distance,
+                                  const EvalOptions& options, double spacing, double tolerance,
+                                  BoundarySamples boundary, std::vector<double> to_surface,
+                                  EvalResult& result) {
+  for (int round = 0; round < 2; ++round) {
+    std::vector<std::size_t> order(boundary.points.size());
+    std::iota(order.begin(), order.end(), 0);
+    const std::size_t refined =
+        std::min(order.size(), static_cast<std::size_t>(options.refined_samples));
+    std::partial_sort(
+        order.begin(), order.begin() + refined, order.end(), [&](std::size_t i, std::size_t j) {
+          return to_surface[i] > to_surface[j] || (to_surface[i] == to_surface[j] && i < j);
+        });
+    BoundarySamples finer;
+    for (std::size_t k = 0; k < refined; ++k) {
+      const std::size_t i = order[k];
+      if (to_surface[i] + spacing < result.medial_to_surface_max) break;
+      envelope.sample_around(boundary.points[i], boundary.pieces[i], spacing, spacing / 4, finer);
+    }
+    spacing /= 4;
+    if (round == 0) {  // done with the uniform samples: they go to the caller
+      result.boundary_samples = std::move(boundary.points);
+      result.boundary_error = std::move(to_surface);
+    }
+    boundary = envelope.visible(finer, tolerance);
+    to_surface = distance(
+        boundary.points, options.maxima_only ? result.medial_to_surface_max - spacing : -kInfinity);
+    for (std::size_t i = 0; i < to_surface.size(); ++i) {
+      if (to_surface[i] <= result.medial_to_surface_max) continue;
+      result.medial_to_surface_max = to_surface[i];
+      result.medial_to_surface_worst = boundary.points[i];
+    }
+  }
+}
+
+}  // namespace
+
+EvalResult Evaluator::operator()(const MedialMesh& medial) {
+  const EvalOptions& options = impl_->options;
+  const Envelope envelope(medial);
+  EvalResult result;
+  result.diagonal = impl_->diagonal;
+  const std::vector<double>& to_medial = impl_->surface_side(envelope);
+
+  // Medial -> surface: the uniform samples give the mean, the maximum is refined around them.
+  const double tolerance = options.inside_tolerance * result.diagonal;
+  double spacing = options.boundary_spacing * result.diagonal;
+  // Work and memory bounded whatever the medial mesh: primitives far larger than the shape
+  // are sampled more coarsely (the counts grow as 1 / spacing²).
+  const double expected = envelope.sample_count(spacing);
+  if (expected > kMaxBoundarySamples) spacing *= std::sqrt(expected / kMaxBoundarySamples);
+  BoundarySamples boundary;
+  std::vector<double> to_surface;
+  impl_->boundary_side(envelope, spacing, tolerance, boundary, to_surface);
+  std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
+  result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
+  result.boundary_sample_count = boundary.points.size();
+  refine_medial_to_surface_max(envelope, impl_->distance, options, spacing, tolerance,
+                               std::move(boundary), std::move(to_surface), result);
+
+  std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
+  result.surface_to_medial_worst = worst_point(impl_->samples, to_medial);
+  result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
+  result.surface_sample_count = impl_->samples.size();
+  if (options.maxima_only) {
+    result.surface_to_medial_mean = result.medial_to_surface_mean = 0.0;
+    result.boundary_samples.clear();
+    result.boundary_error.clear();
+    return result;
+  }
+  result.vertex_error.assign(to_medial.begin(), to_medial.begin() + impl_->shape.points.size());
+  return result;
+}
+
+}  // namespace vmas
