@@ -1,25 +1,23 @@
 #include "vmas/denoise.hpp"
 
-#include <pcl/filters/statistical_outlier_removal.h>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/surface/mls.h>
-// The PCL classes used here are instantiated here, not taken from PCL's libraries: libpcl_surface
-// links VTK (~60 libraries), and libpcl_filters, _sample_consensus, _search and _kdtree carry
-// ~60 000 symbol relocations; loading them took 0.04-0.1 s at every start of vmas, a third of a
-// small job. Only libpcl_common is linked.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
-#include <pcl/filters/impl/filter_indices.hpp>
-#include <pcl/filters/impl/statistical_outlier_removal.hpp>
+#include <string>
+#include <utility>
+
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/surface/mls.h>
+// PCL's template sources, so that the classes used here are compiled into vmas: of PCL's
+// libraries only libpcl_common is linked (libpcl_surface pulls VTK in, and the filters, search
+// and kdtree libraries would slow every start of vmas with their relocations).
 #include <pcl/filters/impl/voxel_grid.hpp>
 #include <pcl/impl/pcl_base.hpp>
 #include <pcl/kdtree/impl/kdtree_flann.hpp>
@@ -27,8 +25,6 @@
 #include <pcl/search/impl/organized.hpp>
 #include <pcl/search/impl/search.hpp>
 #include <pcl/surface/impl/mls.hpp>
-#include <stdexcept>
-#include <string>
 
 #include "flann_query.hpp"
 #include "principal_axes.hpp"
@@ -39,15 +35,6 @@
 #include <omp.h>
 #endif
 
-template class pcl::PCLBase<pcl::PointXYZ>;
-template class pcl::FilterIndices<pcl::PointXYZ>;
-template class pcl::StatisticalOutlierRemoval<pcl::PointXYZ>;
-template class pcl::VoxelGrid<pcl::PointXYZ>;
-template class pcl::KdTreeFLANN<pcl::PointXYZ>;
-template class pcl::search::Search<pcl::PointXYZ>;
-template class pcl::search::KdTree<pcl::PointXYZ>;
-template class pcl::search::OrganizedNeighbor<pcl::PointXYZ>;
-template class pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointNormal>;
 
 namespace vmas {
 namespace {
@@ -65,7 +52,7 @@ class FlannSearch : public pcl::search::Search<pcl::PointXYZ> {
 
   void setInputCloud(const PointCloudConstPtr& cloud,
                      const IndicesConstPtr& indices = IndicesConstPtr()) override {
-    if (indices) throw std::logic_error("FlannSearch: indices are not supported");
+    if (indices) throw InvalidArgument("FlannSearch: indices are not supported");
     input_ = cloud;
     coordinates_.resize(3 * cloud->size());
     for (std::size_t i = 0; i < cloud->size(); ++i)

@@ -44,7 +44,7 @@ EditSession::~EditSession() {
 void EditSession::check_key(std::uint64_t key) const {
   const auto& keys = published_.keys;
   if (std::find(keys.begin(), keys.end(), key) == keys.end())
-    throw InvalidOption("no sphere with key " + std::to_string(key));
+    throw InvalidArgument("no sphere with key " + std::to_string(key));
 }
 
 void EditSession::enqueue(const Edit& edit) {
@@ -52,7 +52,7 @@ void EditSession::enqueue(const Edit& edit) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (edit.kind == Edit::Kind::Remove || edit.kind == Edit::Kind::Freeze) check_key(edit.key);
     if (pending_.size() >= kMaxPendingEdits)
-      throw InvalidOption("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
+      throw InvalidArgument("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
     pending_.push_back(edit);
   }
   changed_.notify_all();
@@ -62,7 +62,7 @@ void EditSession::remove(std::uint64_t key) { enqueue({Edit::Kind::Remove, key})
 
 void EditSession::split_at(int vertex) {
   if (vertex < 0 || vertex >= shape().size())
-    throw InvalidOption("no vertex with index " + std::to_string(vertex));
+    throw InvalidArgument("no vertex with index " + std::to_string(vertex));
   enqueue({Edit::Kind::Split, 0, vertex});
 }
 

@@ -1,9 +1,7 @@
 #pragma once
-// FLANN's knnSearch and radiusSearch for a single query, without what they add around it: both
-// open an OpenMP region on every call, even for one query, and each region ends in a futex
-// system call (a region per query cost more than the search itself: 44 of the 50 ms of a 5 500-
-// point mesh's noise estimate; 395 000 futex calls to denoise a 30 000-point cloud). Same result
-// sets and ordering as FLANN's, so the same neighbours, for an index no point was removed from.
+// FLANN's knnSearch and radiusSearch for a single query, without the OpenMP region both open on
+// every call (its closing system call costs more than one search). Same result sets and
+// ordering as FLANN's, so the same neighbours, for an index no point was removed from.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>

@@ -211,8 +211,7 @@ void Skeletonizer::fit_and_project(double lambda) {
 }
 
 int Skeletonizer::sphere_cap() const {
-  // More spheres than points would leave clusters empty: with an error threshold on a tiny or
-  // noisy cloud the count climbed to max_spheres (5000 spheres for 40 points).
+  // More spheres than points would leave clusters empty.
   return std::min(options_.max_spheres, shape_.size());
 }
 
@@ -233,10 +232,9 @@ int Skeletonizer::split() {
   const auto start = Clock::now();
   const int count = static_cast<int>(spheres_.size());
   const int cap = options_.target_spheres > 0 ? options_.target_spheres : sphere_cap();
-  // An error target may need thousands of spheres: it grows by the fraction alone, or a fine
-  // threshold would take hundreds of rounds.
-  // A large count target grows by a share of the count too, or 1000 spheres took a hundred
-  // rounds (1 060 steps on a 1M-point scan); below 200 spheres the share is under the cap.
+  // An error target may need thousands of spheres: it grows by the fraction alone. A large
+  // count target grows by a share of the count too (below 200 spheres the share is under the
+  // cap), or it would take a hundred rounds.
   const int per_round =
       options_.target_spheres > 0
           ? std::max(options_.split.max_per_round, count / options_.split.large_count_share)
@@ -254,13 +252,12 @@ int Skeletonizer::split() {
         !frozen_[c] && static_cast<int>(members_[c].size()) >= 2 && cluster_errors_[c] > threshold;
     // Between E(C) (eq. 12), which the paper ranks by, and the worst vertex: ε is a Hausdorff
     // distance, and a well fitted cluster can still leave a tip uncovered. Their geometric mean
-    // did best on the benchmark (README, "Where vmas departs from the paper").
+    // did best on the benchmark (docs/design.md, "Where vmas departs from the paper").
     rank[c] = std::sqrt(cluster_errors_[c] * worst_errors_[c]);
   }
-  // No threshold on the rank: `eligible` already holds the error target, and a perfectly fitted
-  // cluster must still be able to split when spheres are missing.
+  // A perfectly fitted cluster (rank 0) must still be able to split when spheres are missing.
   const auto chosen = select_clusters_to_split(rank, cluster_adjacency(shape_, labels_, count),
-                                               eligible, -1.0, max_count);
+                                               eligible, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
     spheres_.push_back(projector_.ball_at(worst));
@@ -379,19 +376,19 @@ void Skeletonizer::final_refit(int round) {
 
 void Skeletonizer::check_id(int id) const {
   if (id < 0 || id >= static_cast<int>(spheres_.size()))
-    throw InvalidOption("no sphere with id " + std::to_string(id) + " (there are " +
+    throw InvalidArgument("no sphere with id " + std::to_string(id) + " (there are " +
                         std::to_string(spheres_.size()) + ")");
 }
 
 int Skeletonizer::add_sphere_at(int vertex) {
   if (vertex < 0 || vertex >= shape_.size())
-    throw InvalidOption("no vertex with index " + std::to_string(vertex));
+    throw InvalidArgument("no vertex with index " + std::to_string(vertex));
   return add_sphere(projector_.ball_at(vertex));
 }
 
 int Skeletonizer::add_sphere(const Sphere& sphere) {
   if (!sphere.center.allFinite() || !(sphere.radius >= 0.0 && std::isfinite(sphere.radius)))
-    throw InvalidOption("a sphere needs a finite centre and a finite, non-negative radius");
+    throw InvalidArgument("a sphere needs a finite centre and a finite, non-negative radius");
   spheres_.push_back(sphere);
   frozen_.push_back(false);
   add_key();
@@ -401,7 +398,7 @@ int Skeletonizer::add_sphere(const Sphere& sphere) {
 
 void Skeletonizer::remove_sphere(int id) {
   check_id(id);
-  if (spheres_.size() == 1) throw InvalidOption("cannot remove the last sphere");
+  if (spheres_.size() == 1) throw InvalidArgument("cannot remove the last sphere");
   spheres_.erase(spheres_.begin() + id);
   frozen_.erase(frozen_.begin() + id);
   keys_.erase(keys_.begin() + id);
@@ -456,7 +453,7 @@ void Skeletonizer::restore(const SkeletonizerState& state) {
       static_cast<int>(state.labels.size()) != shape_.size() ||
       std::any_of(state.labels.begin(), state.labels.end(),
                   [&](int label) { return label < 0 || label >= count; }))
-    throw InvalidOption("not a state of this skeletonizer's shape");
+    throw InvalidArgument("not a state of this skeletonizer's shape");
   spheres_ = state.spheres;
   frozen_ = state.frozen;
   labels_ = state.labels;

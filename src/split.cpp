@@ -20,8 +20,7 @@ void SplitOptions::validate() const {
 
 std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_errors,
                                           const std::vector<std::vector<int>>& adjacency,
-                                          const std::vector<bool>& eligible, double threshold,
-                                          int max_count) {
+                                          const std::vector<bool>& eligible, int max_count) {
   const int count = static_cast<int>(cluster_errors.size());
   std::vector<int> order(count);
   std::iota(order.begin(), order.end(), 0);
@@ -30,7 +29,7 @@ std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_err
   std::vector<bool> blocked(count, false);
   std::vector<int> chosen;
   for (int c : order) {
-    if (static_cast<int>(chosen.size()) >= max_count || !(cluster_errors[c] > threshold)) break;
+    if (static_cast<int>(chosen.size()) >= max_count) break;
     if (!eligible[c] || blocked[c]) continue;
     chosen.push_back(c);
     for (int neighbour : adjacency[c]) blocked[neighbour] = true;

@@ -4,7 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
-#include <stdexcept>
+
+#include "vmas/error.hpp"
 
 namespace vmas {
 
@@ -56,9 +57,9 @@ std::size_t occupied_cells(const std::vector<Vec3>& points, const std::vector<st
 Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
                     const std::vector<std::uint8_t>& groups) {
   if (!groups.empty() && groups.size() != points.size())
-    throw std::invalid_argument("subsample: one group per point");
+    throw InvalidArgument("subsample: one group per point");
   for (std::uint8_t g : groups)
-    if (g >= (1 << kGroupBits)) throw std::invalid_argument("subsample: groups must be below 8");
+    if (g >= (1 << kGroupBits)) throw InvalidArgument("subsample: groups must be below 8");
   Subsample result;
   const std::size_t n = points.size();
   if (budget == 0 || n <= budget) {

@@ -104,10 +104,10 @@ TEST(EditSession, FrozenSphereDoesNotMove) {
 TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
   const auto session = capsule_session(5);
   const EditSnapshot start = settled(*session, 5);
-  EXPECT_THROW(session->remove(start.keys.back() + 1000), InvalidOption);
-  EXPECT_THROW(session->freeze(start.keys.back() + 1000, true), InvalidOption);
-  EXPECT_THROW(session->split_at(-1), InvalidOption);
-  EXPECT_THROW(session->split_at(session->shape().size()), InvalidOption);
+  EXPECT_THROW(session->remove(start.keys.back() + 1000), InvalidArgument);
+  EXPECT_THROW(session->freeze(start.keys.back() + 1000, true), InvalidArgument);
+  EXPECT_THROW(session->split_at(-1), InvalidArgument);
+  EXPECT_THROW(session->split_at(session->shape().size()), InvalidArgument);
   EXPECT_THROW(session->set_target_spheres(0), InvalidOption);
   EXPECT_THROW(session->set_lambda(-1.0), InvalidOption);
 
@@ -121,7 +121,7 @@ TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
   for (int i = 0; i < 5000; ++i) {
     try {
       session->set_lambda(0.2);
-    } catch (const InvalidOption&) {
+    } catch (const InvalidArgument&) {
       ++refused;
     }
   }
@@ -132,7 +132,7 @@ TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
     try {
       session->pause(false);
       resumed_ok = true;
-    } catch (const InvalidOption&) {
+    } catch (const InvalidArgument&) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   }

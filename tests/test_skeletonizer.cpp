@@ -125,8 +125,8 @@ TEST(Skeletonizer, DynamicEditingBetweenSteps) {
     EXPECT_TRUE(label >= 0 && label < static_cast<int>(before - 1));
   skeletonizer.step();
 
-  EXPECT_THROW(skeletonizer.remove_sphere(99), InvalidOption);
-  EXPECT_THROW(skeletonizer.add_sphere_at(-1), InvalidOption);
+  EXPECT_THROW(skeletonizer.remove_sphere(99), InvalidArgument);
+  EXPECT_THROW(skeletonizer.add_sphere_at(-1), InvalidArgument);
 }
 
 // A sphere keeps its key whatever is added or removed; a restored state brings its keys back.

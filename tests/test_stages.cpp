@@ -275,18 +275,18 @@ TEST(Update, EnergyNeverIncreasesAndFitsTheSphere) {
   }
 }
 
-TEST(Split, ChoosesWorstNonAdjacentClustersAboveThreshold) {
+TEST(Split, ChoosesWorstEligibleNonAdjacentClusters) {
   const std::vector<double> errors = {5, 9, 8, 1, 7};
   // 1–2 adjacent, 2–4 adjacent.
   const std::vector<std::vector<int>> adjacency = {{}, {2}, {1, 4}, {}, {2}};
   const std::vector<bool> eligible(5, true);
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 10),
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 10),
             (std::vector<int>{1, 4, 0, 3}));
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 4.0, 10),
+  // Eligible: above an error target of 4.
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, {true, true, true, false, true}, 10),
             (std::vector<int>{1, 4, 0}));
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 0.0, 2),
-            (std::vector<int>{1, 4}));
-  EXPECT_EQ(select_clusters_to_split(errors, adjacency, {true, false, true, true, true}, 0.0, 10),
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, eligible, 2), (std::vector<int>{1, 4}));
+  EXPECT_EQ(select_clusters_to_split(errors, adjacency, {true, false, true, true, true}, 10),
             (std::vector<int>{2, 0, 3}));
 }
 
@@ -349,7 +349,7 @@ TEST(Subsample, PointsOfDifferentGroupsNeverShareACellsPoint) {
   EXPECT_LE(thin.kept.size(), 3000u);
   for (std::size_t i = 0; i < box.points.size(); ++i)
     EXPECT_EQ(groups[thin.kept[thin.representative[i]]], groups[i]) << i;
-  EXPECT_THROW(subsample(box.points, 3000, std::vector<std::uint8_t>(5, 0)), std::invalid_argument);
+  EXPECT_THROW(subsample(box.points, 3000, std::vector<std::uint8_t>(5, 0)), InvalidArgument);
 }
 
 // Two parallel plates closer than a coarse cell: the coarse shape keeps their sides apart.

@@ -309,6 +309,7 @@ PYBIND11_MODULE(vmas, m) {
   static py::exception<Error> error(m, "Error");
   static py::exception<InvalidInput> invalid_input(m, "InvalidInput", PyExc_ValueError);
   static py::exception<InvalidOption> invalid_option(m, "InvalidOption", PyExc_ValueError);
+  static py::exception<InvalidArgument> invalid_argument(m, "InvalidArgument", PyExc_ValueError);
   static py::exception<IoError> io_error(m, "IoError", PyExc_OSError);
   static py::exception<Cancelled> cancelled(m, "Cancelled");
   py::register_exception_translator([](std::exception_ptr p) {
@@ -316,6 +317,8 @@ PYBIND11_MODULE(vmas, m) {
       if (p) std::rethrow_exception(p);
     } catch (const InvalidOption& e) {
       invalid_option(e.what());
+    } catch (const InvalidArgument& e) {
+      invalid_argument(e.what());
     } catch (const InvalidInput& e) {
       invalid_input(e.what());
     } catch (const IoError& e) {

@@ -26,9 +26,8 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points);
 
 struct DenoiseOptions {
   // Noise at or below this fraction of the spacing is left alone: clean samples, meshes whose
-  // fine relief reads as noise (Table 1's armadillo: 0.15), and scans whose mild noise does not
-  // disturb the shrinking balls (the merged bunny, 0.27: smoothing only blurred its registration
-  // seams, ε against the scan 3.5 → 5.6 %). The benchmark's noisy inputs read 0.6 and more.
+  // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls
+  // (smoothing them would blur what matters more, such as registration seams).
   double clean_fraction_of_spacing = 0.35;
   double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
   int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
@@ -39,9 +38,9 @@ struct DenoiseOptions {
 // True when `noise` calls for smoothing under `options`.
 bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);
 
-// Indices of the points kept by PCL's StatisticalOutlierRemoval (mean distance to the
-// outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
-// mean), ascending; repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of
+// Indices of the points kept by the rule of PCL's StatisticalOutlierRemoval (mean distance to
+// the outlier_k nearest neighbours within outlier_deviations standard deviations of the cloud's
+// mean; the filter keeps its searcher private, so the rule is computed here), ascending; repeated (at most 4 passes) while a pass removes between 0.5 % and 2 % of
 // the points. A first pass removing more than 2 % has found uneven density: every point stays.
 // Clouds too small for it keep every point.
 std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOptions& options);

@@ -51,9 +51,9 @@ class EditSession {
   EditSession(const EditSession&) = delete;
   EditSession& operator=(const EditSession&) = delete;
 
-  // Edits; each throws InvalidOption when it cannot mean anything (a vertex out of range, a key
-  // not in the latest snapshot, a count out of range, too many edits waiting), and is otherwise
-  // applied before the next step.
+  // Edits, applied before the next step. Each throws InvalidOption for a count or λ out of its
+  // range, InvalidArgument when it cannot mean anything (a vertex out of range, a key not in the
+  // latest snapshot, too many edits waiting).
   void remove(std::uint64_t key);
   void split_at(int vertex);  // a new sphere: the shrinking ball at `vertex`
   void freeze(std::uint64_t key, bool frozen);

@@ -34,4 +34,11 @@ struct InvalidOption : Error {
   std::string option_;
 };
 
+// A call that does not fit the object it is made on: an id, key or vertex that names nothing,
+// removing the last sphere, a state of another shape, a full edit queue. The caller's mistake,
+// not a usage error of the command line.
+struct InvalidArgument : Error {
+  using Error::Error;
+};
+
 }  // namespace vmas

@@ -128,7 +128,8 @@ class Skeletonizer {
   RunSummary run(const ProgressCallback& progress = {});
 
   // Dynamic editing. Each re-partitions at once so labels() always covers every sphere; a sphere
-  // whose cluster stays below min_cluster_size is moved by the next step().
+  // whose cluster stays below min_cluster_size is moved by the next step(). An id or vertex that
+  // names nothing, or removing the last sphere, throws InvalidArgument.
   int add_sphere_at(int vertex);         // the shrinking ball at `vertex`; returns its id
   int add_sphere(const Sphere& sphere);  // as given (e.g. a projected one); returns its id
   void remove_sphere(int id);
@@ -141,7 +142,7 @@ class Skeletonizer {
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
   SkeletonizerState state() const { return {spheres_, frozen_, labels_, keys_}; }
-  // A state of this skeletonizer (InvalidOption when it does not fit its shape).
+  // A state of this skeletonizer (InvalidArgument when it does not fit its shape).
   void restore(const SkeletonizerState& state);
 
   MedialMesh medial_mesh() const;

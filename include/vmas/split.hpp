@@ -11,11 +11,10 @@ struct SplitOptions {
   void validate() const;      // throws InvalidOption
 };
 
-// Clusters to split, worst error first: only those with error above `threshold` and `eligible`,
-// none adjacent to a cluster already chosen in this round, at most `max_count`.
+// Clusters to split, worst error first: only `eligible` ones (an error target is the caller's to
+// apply), none adjacent to a cluster already chosen in this round, at most `max_count`.
 std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_errors,
                                           const std::vector<std::vector<int>>& adjacency,
-                                          const std::vector<bool>& eligible, double threshold,
-                                          int max_count);
+                                          const std::vector<bool>& eligible, int max_count);
 
 }  // namespace vmas

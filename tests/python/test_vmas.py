@@ -217,9 +217,9 @@ def test_the_editing_loop_of_the_paper():
     mesh = skeletonizer.medial_mesh()
     assert mesh.centers.shape[0] == skeletonizer.spheres
     assert skeletonizer.labels.shape == (skeletonizer.points.shape[0],)
-    with pytest.raises(vmas.InvalidOption):
+    with pytest.raises(vmas.InvalidArgument):
         skeletonizer.remove_sphere(99)
-    with pytest.raises(vmas.InvalidOption):
+    with pytest.raises(vmas.InvalidArgument):
         skeletonizer.add_sphere(-1)
 
 
