@@ -104,6 +104,9 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"dropped_edits", s.dropped_edits},
                   {"undo", s.undo_steps},
                   {"redo", s.redo_steps},
+                  {"finished", s.finished},
+                  {"error_before_finish_percent", 100.0 * s.error_before_finish},
+                  {"error_after_finish_percent", 100.0 * s.error_after_finish},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres}};
@@ -175,10 +178,24 @@ struct Saved {
   std::string name, bytes;
 };
 
+// Runs finish() and waits until the worker has done it; false when it was dropped.
+bool finish_and_wait(EditSession& session) {
+  const EditSnapshot now = session.snapshot();
+  session.finish();
+  for (std::uint64_t version = now.version;;) {
+    version = session.wait_for_version(version, 1000);
+    const EditSnapshot s = session.snapshot();
+    if (s.finishes > now.finishes) return true;
+    if (s.dropped_edits > now.dropped_edits) return false;
+  }
+}
+
 // One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
-// "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too.
+// "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too; with
+// `finish_on_save` it finishes the skeleton first (unless it is finished already).
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
-                const std::string& download_name, const Frame& frame, Saved& saved) {
+                const std::string& download_name, const Frame& frame, bool finish_on_save,
+                Saved& saved) {
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
@@ -194,6 +211,8 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     session.undo();
   } else if (op == "redo") {
     session.redo();
+  } else if (op == "finish") {
+    session.finish();
   } else if (op == "target") {
     if (edit.contains("by"))
       session.change_target_spheres(integer_field(edit, "by"));
@@ -205,6 +224,8 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     else
       session.set_lambda(edit.at("value").get<double>());
   } else if (op == "save") {
+    if (finish_on_save && !session.snapshot().finished && !finish_and_wait(session))
+      throw InvalidArgument("the skeleton could not be finished before saving");
     const EditSnapshot s = session.snapshot();
     const MedialMesh mesh = frame.to_input(s.mesh);
     const std::string name = output.empty() ? download_name : output;
@@ -215,7 +236,9 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
       saved.name = std::filesystem::path(name).filename().string();
       saved.bytes = std::move(bytes);
     }
-    json reply = {{"ok", true}, {"spheres", s.spheres.size()}, {"name", saved.name}};
+    json reply = {{"ok", true}, {"spheres", s.spheres.size()}, {"name", saved.name},
+                  {"finished", s.finished}};
+    if (s.finished) reply["error_percent"] = 100.0 * s.error_after_finish;
     if (!output.empty()) reply["path"] = output;
     return reply;
   } else {
@@ -230,6 +253,7 @@ int edit_command(int argc, const char* const* argv) {
   RunOptionValues run_values;
   std::string input, output, host = "127.0.0.1";
   int port = 0;
+  bool finish_on_save = true;
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
@@ -238,7 +262,10 @@ int edit_command(int argc, const char* const* argv) {
       ("host", po::value(&host)->default_value(host),
        "address to listen on (the default, loopback, lets no other machine in)")
       ("port", po::value(&port)->default_value(0), "port to listen on (0: any free one)")
-      ("exit-on-close", "stop when the last page has been closed for 3 s");
+      ("exit-on-close", "stop when the last page has been closed for 3 s")
+      ("finish-on-save", po::value(&finish_on_save)->default_value(true),
+       "saving finishes the skeleton first (the final refits and the worst-case refinement, as "
+       "vmas skeletonize ends; then the editor pauses): true or false");
   // clang-format on
   add_run_options(visible, run_values);
   po::options_description hidden;
@@ -286,7 +313,8 @@ int edit_command(int argc, const char* const* argv) {
   PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
-  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads);
+  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads,
+                      {std::move(prepared.surface), run_values.options.refine});
   const std::string shape = shape_bytes(session.shape(), frame);
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
@@ -370,7 +398,9 @@ int edit_command(int argc, const char* const* argv) {
     try {
       res.content_type = "application/json";
       res.body =
-          apply_edit(session, json::parse(req.body), output, download_name, frame, saved).dump();
+          apply_edit(session, json::parse(req.body), output, download_name, frame, finish_on_save,
+                     saved)
+              .dump();
     } catch (const json::exception& e) {
       res.json_error(400, std::string("bad edit: ") + e.what());
     } catch (const Error& e) {

@@ -23,11 +23,18 @@ constexpr auto kSettledStepPause = std::chrono::milliseconds(33);
 
 }  // namespace
 
-EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads)
+EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads,
+                         FinishOptions finish)
     : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)),
       threads_(threads),
-      most_spheres_(std::min(options.max_spheres, skeletonizer_->shape().size())) {
+      most_spheres_(std::min(options.max_spheres, skeletonizer_->shape().size())),
+      finish_options_(std::move(finish)) {
   if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
+  finish_options_.refine.validate();
+  if (finish_options_.surface.points.empty()) {
+    finish_options_.surface.points = skeletonizer_->shape().points;
+    finish_options_.surface.normals = skeletonizer_->shape().normals;
+  }
   publish(0.0);
   worker_ = std::thread([this] { work(); });
 }
@@ -97,6 +104,8 @@ void EditSession::redo() { enqueue({Edit::Kind::Redo}); }
 
 void EditSession::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
 
+void EditSession::finish() { enqueue({Edit::Kind::Finish}); }
+
 EditSnapshot EditSession::snapshot() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return published_;
@@ -130,6 +139,7 @@ bool EditSession::apply(const Edit& edit) {
     auto& from = edit.kind == Edit::Kind::Undo ? undo_ : redo_;
     auto& to = edit.kind == Edit::Kind::Undo ? redo_ : undo_;
     if (from.empty()) return false;
+    finished_ = false;
     to.push_back(moment());
     go_back_to(from.back());
     from.pop_back();
@@ -138,6 +148,7 @@ bool EditSession::apply(const Edit& edit) {
   if (edit.kind == Edit::Kind::Pause) return apply_one(edit);
   Moment before = moment();
   if (!apply_one(edit)) return false;  // nothing to take back
+  if (edit.kind != Edit::Kind::Finish) finished_ = false;
   undo_.push_back(std::move(before));
   if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
   redo_.clear();
@@ -185,6 +196,9 @@ bool EditSession::apply_one(const Edit& edit) {
     case Edit::Kind::Pause:
       paused_ = edit.value != 0;
       return true;
+    case Edit::Kind::Finish:
+      apply_finish();
+      return true;
     case Edit::Kind::Undo:
     case Edit::Kind::Redo:
       break;  // apply() takes them
@@ -208,6 +222,23 @@ void EditSession::apply_target(int target) {
   }
 }
 
+void EditSession::apply_finish() {
+  Skeletonizer& s = *skeletonizer_;
+  if (!evaluator_)  // a tree over the surface: built once, by the first finish
+    evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
+  const double diagonal = s.shape().diagonal;
+  error_before_finish_ = (*evaluator_)(s.medial_mesh()).hausdorff / diagonal;
+  for (int round = 0; round < s.options().final_rounds; ++round) s.final_refit(round);
+  const RefineReport refined = refine_worst_served(s, *evaluator_, finish_options_.refine);
+  error_after_finish_ = (finish_options_.refine.max_moves > 0
+                             ? refined.error_after
+                             : (*evaluator_)(s.medial_mesh()).hausdorff) /
+                        diagonal;
+  ++finishes_;
+  finished_ = true;
+  paused_ = true;  // steps would undo the final refits
+}
+
 void EditSession::publish(double steps_per_second) {
   const Skeletonizer& s = *skeletonizer_;
   EditSnapshot next;
@@ -226,6 +257,10 @@ void EditSession::publish(double steps_per_second) {
   next.dropped_edits = dropped_;
   next.undo_steps = static_cast<int>(undo_.size());
   next.redo_steps = static_cast<int>(redo_.size());
+  next.finishes = finishes_;
+  next.finished = finished_;
+  next.error_before_finish = error_before_finish_;
+  next.error_after_finish = error_after_finish_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;
@@ -269,6 +304,7 @@ void EditSession::work() {
       continue;
     }
     const Turn turn = s.advance();
+    finished_ = false;
     const auto now = Clock::now();
     const double seconds = std::chrono::duration<double>(now - last_step).count();
     last_step = now;

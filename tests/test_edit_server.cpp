@@ -150,11 +150,21 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   EXPECT_EQ(split["keys"][0], frozen);
   EXPECT_EQ(split["spheres"][0], is_frozen["spheres"][0]);
 
-  // Save: the file has the spheres the page shows.
+  // Save: it finishes the skeleton first (as vmas skeletonize ends: final refits, refinement)
+  // and pauses; the file has the spheres the page then shows.
   reply = edit({{"op", "save"}});
   ASSERT_EQ(reply->status, 200) << reply->body;
+  const json save_reply = json::parse(reply->body);
+  EXPECT_TRUE(save_reply["finished"].get<bool>());
+  const json finished = state_when([](const json& s) { return s["finished"].get<bool>(); });
+  EXPECT_TRUE(finished["paused"].get<bool>());
+  EXPECT_LE(finished["error_after_finish_percent"].get<double>(),
+            finished["error_before_finish_percent"].get<double>());
+  EXPECT_DOUBLE_EQ(save_reply["error_percent"].get<double>(),
+                   finished["error_after_finish_percent"].get<double>());
   const MedialMesh saved = read_medial_mesh(path("saved.ply"));
-  EXPECT_EQ(saved.spheres.size(), json::parse(reply->body)["spheres"].get<std::size_t>());
+  EXPECT_EQ(saved.spheres.size(), save_reply["spheres"].get<std::size_t>());
+  EXPECT_EQ(saved.spheres.size(), finished["spheres"].size());
   EXPECT_EQ(client_->Get(api("/api/download").c_str())->body, test::read_text(path("saved.ply")));
 
   // Ctrl-C stops it cleanly.

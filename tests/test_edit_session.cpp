@@ -198,5 +198,47 @@ TEST(EditSession, UndoTakesEditsBackAndRedoMakesThemAgain) {
   EXPECT_EQ(same.spheres.size(), 4u);
 }
 
+TEST(EditSession, FinishRefitsAndRefinesKeepsFrozenSpheresAndPauses) {
+  const auto session = capsule_session(8);
+  const EditSnapshot start = settled(*session, 8);
+  const std::uint64_t kept = start.keys[1];
+  const auto index_of = [&](const EditSnapshot& s) {
+    return std::find(s.keys.begin(), s.keys.end(), kept) - s.keys.begin();
+  };
+  session->pause(true);
+  session->freeze(kept, true);
+  const EditSnapshot frozen = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.paused && s.frozen[index_of(s)]; });
+  ASSERT_TRUE(frozen.frozen[index_of(frozen)]);
+  session->finish();
+  const EditSnapshot done =
+      wait_until(*session, [](const EditSnapshot& s) { return s.finishes == 1; });
+  ASSERT_EQ(done.finishes, 1);
+  EXPECT_TRUE(done.finished);
+  EXPECT_TRUE(done.paused);  // steps would undo the final refits
+  ASSERT_EQ(done.spheres.size(), 8u);
+  EXPECT_GT(done.error_after_finish, 0.0);
+  EXPECT_LE(done.error_after_finish, done.error_before_finish);
+  // The frozen sphere did not move; the others did (final refits with a small λ).
+  EXPECT_EQ(done.spheres[index_of(done)].center, frozen.spheres[index_of(frozen)].center);
+  EXPECT_EQ(done.spheres[index_of(done)].radius, frozen.spheres[index_of(frozen)].radius);
+  int moved = 0;
+  for (std::size_t i = 0; i < done.spheres.size(); ++i)
+    moved += done.spheres[i].center != frozen.spheres[i].center;
+  EXPECT_GT(moved, 0);
+  // Paused, the finished spheres stay as they are.
+  session->wait_for_version(done.version, 300);
+  EXPECT_EQ(session->snapshot().iteration, done.iteration);
+  EXPECT_TRUE(session->snapshot().finished);
+  // An edit of its own: undo brings the spheres of before back.
+  session->undo();
+  const EditSnapshot undone =
+      wait_until(*session, [](const EditSnapshot& s) { return s.redo_steps == 1; });
+  EXPECT_FALSE(undone.finished);
+  EXPECT_EQ(undone.keys, frozen.keys);
+  for (std::size_t i = 0; i < frozen.spheres.size(); ++i)
+    EXPECT_EQ(undone.spheres[i].center, frozen.spheres[i].center);
+}
+
 }  // namespace
 }  // namespace vmas

@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "vmas/refine.hpp"
 #include "vmas/skeletonizer.hpp"
 
 namespace vmas {
@@ -37,6 +38,20 @@ struct EditSnapshot {
   std::size_t dropped_edits = 0;  // edits that meant nothing when their turn came (a sphere
                                   // already gone, a split beyond the most spheres)
   int undo_steps = 0, redo_steps = 0;  // edits undo() and redo() can take back / make again
+  // finish(): how many were done, whether the spheres are still those of the last one (no edit
+  // and no step since), and the measured two-sided Hausdorff error, relative to the diagonal,
+  // before and after it.
+  int finishes = 0;
+  bool finished = false;
+  double error_before_finish = 0.0, error_after_finish = 0.0;
+};
+
+// What finish() measures against and how it refines.
+struct FinishOptions {
+  // The points (and faces) the shape was built from, in its frame (PreparedShape::surface);
+  // empty: the shape's own points and normals.
+  SurfaceInput surface;
+  RefineOptions refine;
 };
 
 class EditSession {
@@ -46,7 +61,8 @@ class EditSession {
 
   // Starts optimising at once (from one sphere, splitting up to options.target_spheres), with
   // `threads` OpenMP threads in the worker (0: OpenMP's default, all cores).
-  EditSession(Shape shape, const SkeletonizerOptions& options, int threads = 0);
+  EditSession(Shape shape, const SkeletonizerOptions& options, int threads = 0,
+              FinishOptions finish = {});
   ~EditSession();  // stops the worker
   EditSession(const EditSession&) = delete;
   EditSession& operator=(const EditSession&) = delete;
@@ -72,6 +88,11 @@ class EditSession {
   void undo();
   void redo();
   void pause(bool paused);
+  // Ends the optimisation as vmas::skeletonize does: the final refits, then the worst-case
+  // refinement (vmas/refine.hpp), on the current spheres; frozen spheres never move. Then the
+  // session pauses, so that the finished skeleton stays until the next edit or resume. An edit
+  // of its own: undo() takes it back.
+  void finish();
 
   EditSnapshot snapshot() const;
   const Shape& shape() const { return skeletonizer_->shape(); }
@@ -91,7 +112,8 @@ class EditSession {
       LambdaTimes,
       Pause,
       Undo,
-      Redo
+      Redo,
+      Finish
     } kind;
     std::uint64_t key = 0;
     int value = 0;
@@ -104,6 +126,7 @@ class EditSession {
   bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
   bool apply_one(const Edit& edit);  // apply() without the history
   void apply_target(int count);  // worker thread: the count target, reached at once when fewer
+  void apply_finish();           // worker thread
   // What undo() brings back: the skeleton and the targets of a moment.
   struct Moment {
     SkeletonizerState state;
@@ -121,6 +144,11 @@ class EditSession {
   int iteration_ = 0;
   std::size_t dropped_ = 0;
   std::deque<Moment> undo_, redo_;  // worker's: the newest last
+  FinishOptions finish_options_;
+  std::unique_ptr<Evaluator> evaluator_;  // worker's, built by the first finish
+  int finishes_ = 0;                      // worker's
+  bool finished_ = false;
+  double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
