@@ -4,6 +4,7 @@
 // documented in the README ("Editing a skeleton").
 #include <signal.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -134,12 +135,14 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
 
 // The shape, once: little-endian uint32 vertex count, uint32 face count (0: the page draws the
 // vertices the optimisation sees), float32 positions, float32 normals.
-std::string shape_bytes(const Shape& shape, const Frame& frame) {
+std::string shape_bytes(const Shape& shape, const std::vector<std::array<int, 3>>& faces,
+                        const Frame& frame) {
   std::string bytes;
   const auto put = [&](const void* data, std::size_t size) {
     bytes.append(static_cast<const char*>(data), size);
   };
-  const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()), 0};
+  const std::uint32_t counts[2] = {static_cast<std::uint32_t>(shape.size()),
+                                   static_cast<std::uint32_t>(faces.size())};
   put(counts, sizeof counts);
   const auto put_vector = [&](const Vec3& v) {
     const float xyz[3] = {float(v.x()), float(v.y()), float(v.z())};
@@ -147,6 +150,11 @@ std::string shape_bytes(const Shape& shape, const Frame& frame) {
   };
   for (const Vec3& p : shape.points) put_vector(frame.to_input(p));
   for (const Vec3& n : shape.normals) put_vector(frame.direction_to_input(n));
+  for (const auto& face : faces) {
+    const std::uint32_t corners[3] = {std::uint32_t(face[0]), std::uint32_t(face[1]),
+                                      std::uint32_t(face[2])};
+    put(corners, sizeof corners);
+  }
   return bytes;
 }
 
@@ -313,9 +321,10 @@ int edit_command(int argc, const char* const* argv) {
   PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
+  const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
   EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads,
                       {std::move(prepared.surface), run_values.options.refine});
-  const std::string shape = shape_bytes(session.shape(), frame);
+  const std::string shape = shape_bytes(session.shape(), faces, frame);
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's
   // page (its Origin) is refused even with it. Either way the connection is then closed.

@@ -227,6 +227,7 @@ void EditSession::apply_finish() {
   if (!evaluator_)  // a tree over the surface: built once, by the first finish
     evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
   const double diagonal = s.shape().diagonal;
+  const SkeletonizerState start = s.state();
   error_before_finish_ = (*evaluator_)(s.medial_mesh()).hausdorff / diagonal;
   for (int round = 0; round < s.options().final_rounds; ++round) s.final_refit(round);
   const RefineReport refined = refine_worst_served(s, *evaluator_, finish_options_.refine);
@@ -234,6 +235,12 @@ void EditSession::apply_finish() {
                              ? refined.error_after
                              : (*evaluator_)(s.medial_mesh()).hausdorff) /
                         diagonal;
+  // The refinement only keeps moves that help, but the refits before it may not: a finish never
+  // leaves the skeleton worse than it found it.
+  if (error_after_finish_ > error_before_finish_) {
+    s.restore(start);
+    error_after_finish_ = error_before_finish_;
+  }
   ++finishes_;
   finished_ = true;
   paused_ = true;  // steps would undo the final refits

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -117,6 +118,8 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   ASSERT_TRUE(shape);
   ASSERT_EQ(shape->status, 200);
   const std::uint32_t points = *reinterpret_cast<const std::uint32_t*>(shape->body.data());
+  const std::uint32_t faces = *reinterpret_cast<const std::uint32_t*>(shape->body.data() + 4);
+  EXPECT_EQ(faces, 0u);  // a cloud
   EXPECT_EQ(shape->body.size(), 8 + 24 * static_cast<std::size_t>(points));
   EXPECT_GT(points, 2000u);
 
@@ -211,9 +214,20 @@ TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
 // Relative edits add up in arrival order (five quick +1 are +5, whatever the page last saw);
 // without -o, save keeps the skeleton for the download.
 TEST_F(EditServer, RelativeEditsAddUpAndSavingWithoutOutputDownloads) {
-  write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  const SurfaceInput ball = test::icosphere(Vec3::Zero(), 1.0, 3);
+  write_surface(path("ball.off"), ball);
   start({path("ball.off"), "--spheres", "3", "--threads", "1"});
   EXPECT_EQ(client_->Get(api("/api/download").c_str())->status, 404);  // nothing saved yet
+  // A mesh's faces go to the page after its points and normals.
+  const std::string shape = client_->Get(api("/api/shape").c_str())->body;
+  std::uint32_t counts[2];
+  std::memcpy(counts, shape.data(), sizeof counts);
+  EXPECT_EQ(counts[0], ball.points.size());
+  ASSERT_EQ(counts[1], ball.faces.size());
+  ASSERT_EQ(shape.size(), 8 + 24 * std::size_t(counts[0]) + 12 * std::size_t(counts[1]));
+  std::uint32_t first_face[3];
+  std::memcpy(first_face, shape.data() + 8 + 24 * std::size_t(counts[0]), sizeof first_face);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(first_face[c], std::uint32_t(ball.faces[0][c]));
   ASSERT_EQ(state_with_spheres(3)["spheres"].size(), 3u);
   for (int i = 0; i < 5; ++i) ASSERT_EQ(edit({{"op", "target"}, {"by", 1}})->status, 200);
   EXPECT_EQ(state_when([](const json& s) { return s["target_spheres"] == 8; })["target_spheres"], 8);

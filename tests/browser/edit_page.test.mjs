@@ -1,7 +1,9 @@
 // Headless browser test of the page of `vmas edit` (apps/edit_page.html), as a person uses it:
 // the page loads and draws without a console or page error, the optimisation reaches its sphere
-// count, a sphere under the mouse is removed with D, a point's cluster is split with S, W saves
-// the skeleton (and downloads it), and Ctrl-C (SIGINT) stops vmas with exit code 0.
+// count, a sphere under the mouse is removed with D, a point's cluster is split with S, a click
+// selects a sphere that the remove button removes, shift-clicks select two spheres that the
+// freeze button freezes, the finish button refines and pauses, W saves the skeleton (finished,
+// and downloads it), and Ctrl-C (SIGINT) stops vmas with exit code 0.
 //
 // usage: node tests/browser/edit_page.test.mjs [VMAS_BINARY]      (or scripts/test-browser)
 //
@@ -21,6 +23,7 @@ import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
 const WAIT_MS = 60_000;        // every wait of the test
+const FINISH_MS = 30_000;      // the finish button's final refits and refinement
 const OVERALL_MS = 5 * 60_000; // the whole test, a watchdog
 const SPHERES = 12;
 // Points of the generated input (VMAS_BROWSER_POINTS: e.g. 300000 for a big scan, which vmas thins).
@@ -92,13 +95,13 @@ async function main() {
   let url = '', page = null, status = '';
   const statusText = async () => (await page.textContent('#status')) || '';
   // Waits until #status matches PATTERN; fails with the last status seen.
-  const waitForStatus = async (pattern, what) => {
-    const deadline = Date.now() + WAIT_MS;
+  const waitForStatus = async (pattern, what, ms = WAIT_MS) => {
+    const deadline = Date.now() + ms;
     for (;;) {
       status = await statusText();
       if (pattern.test(status)) return status;
       if (vmasExit) fail(`vmas exited (${vmasExit}) while waiting for ${what}`);
-      if (Date.now() > deadline) fail(`no ${what} after ${WAIT_MS / 1000} s; status: '${status}'`);
+      if (Date.now() > deadline) fail(`no ${what} after ${ms / 1000} s; status: '${status}'`);
       await page.waitForTimeout(100);
     }
   };
@@ -150,15 +153,52 @@ async function main() {
     fail('no position on the canvas hovers a sphere (the status line never says "hovered sphere")');
   };
   // The next POST /api/edit with op OP within MS, or null.
-  const nextEdit = (op, ms) => page.waitForRequest(
-    (r) => r.method() === 'POST' && new URL(r.url()).pathname === '/api/edit' && r.postDataJSON()?.op === op,
-    { timeout: ms }).catch(() => null);
+  const isEdit = (r, op) => r.method() === 'POST' && new URL(r.url()).pathname === '/api/edit' && r.postDataJSON()?.op === op;
+  const nextEdit = (op, ms) => page.waitForRequest((r) => isEdit(r, op), { timeout: ms }).catch(() => null);
+  // Every POST /api/edit with op OP from now until stop() (a button may send several, each
+  // after the reply to the one before).
+  const collectEdits = (op) => {
+    const sent = [];
+    const listener = (r) => { if (isEdit(r, op)) sent.push(r); };
+    page.on('request', listener);
+    return { sent, stop: () => page.off('request', listener) };
+  };
+  // The sphere count on the status line.
+  const sphereCount = (text) => {
+    const match = /^spheres (\d+)\//.exec(text);
+    if (!match) fail(`no sphere count on the status line: '${text}'`);
+    return Number(match[1]);
+  };
+  // What the status line says is selected: the keys of one sphere, or the count of several.
+  const selection = (text) => {
+    const one = / selected sphere (\d+)/.exec(text), several = / (\d+) spheres selected/.exec(text);
+    return one ? { count: 1, key: Number(one[1]) } : { count: several ? Number(several[1]) : 0 };
+  };
+  // Moves the mouse over POSITIONS until it hovers a sphere whose key is not in EXCEPT, and
+  // clicks there (with Shift held when SHIFT); returns the hovered key, the position and the
+  // status line after the click.
+  const clickSphere = async (list, { shift = false, except = [] } = {}) => {
+    for (;;) {
+      const hovered = await hoverSphere(list);
+      if (except.includes(hovered.key)) continue;
+      if (shift) await page.keyboard.down('Shift');
+      try {
+        await page.mouse.click(hovered.x, hovered.y);
+      } finally {
+        if (shift) await page.keyboard.up('Shift');
+      }
+      return { ...hovered, after: await statusText() };
+    }
+  };
 
   pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
     'D removes the hovered sphere', 'S splits the hovered point\'s cluster',
     'five quick + presses are five more spheres, then - brings one back',
     'Ctrl-Z undoes the -, Ctrl-Shift-Z redoes it',
+    'click selects a sphere and the remove button removes it',
+    'shift-click selects two spheres and the freeze button freezes both',
+    'finish refines and pauses',
     'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
     'the page loads beside 100 clients sitting on half-sent headers',
     'SIGINT stops vmas with exit code 0');
@@ -299,6 +339,94 @@ async function main() {
     return status.split('  ')[0];
   });
 
+  await check('click selects a sphere and the remove button removes it', async () => {
+    const before = sphereCount(await statusText());
+    list = await positions();
+    const clicked = await clickSphere(list);
+    // The click selects what the mouse is over: the hovered sphere (the same hover, at the
+    // pointerup, names both on the status line).
+    const hoveredNow = / hovered sphere (\d+)/.exec(clicked.after);
+    const selected = selection(clicked.after);
+    if (selected.count !== 1) fail(`a click at (${clicked.x}, ${clicked.y}) on sphere ${clicked.key}: status '${clicked.after}'`);
+    if (hoveredNow && Number(hoveredNow[1]) !== selected.key)
+      fail(`the click selected sphere ${selected.key}, but sphere ${hoveredNow[1]} is under the mouse: '${clicked.after}'`);
+    // The selection stays while the mouse goes to the button.
+    await page.hover('#remove');
+    status = await statusText();
+    if (selection(status).key !== selected.key)
+      fail(`with the mouse on the remove button, the status line says '${status}', not 'selected sphere ${selected.key}'`);
+    const request = nextEdit('remove', WAIT_MS);
+    await page.click('#remove');
+    const sent = await request;
+    if (!sent) fail(`the remove button with sphere ${selected.key} selected sent no remove edit`);
+    if (sent.postDataJSON().key !== selected.key)
+      fail(`the remove button sent ${sent.postData()}, but the selected sphere is ${selected.key}`);
+    const reply = await sent.response();
+    if (!reply.ok()) fail(`remove refused: ${reply.status()} ${await reply.text()}`);
+    await waitForStatus(new RegExp(`^spheres ${before - 1}/${before - 1} `), `'spheres ${before - 1}/${before - 1}'`);
+    if (/ selected/.test(status)) fail(`after removing the selected sphere ${selected.key}, still '${status}'`);
+    noPageErrors();
+    return `sphere ${selected.key} clicked at (${clicked.x}, ${clicked.y}); ${status.split('  ')[0]}`;
+  });
+
+  await check('shift-click selects two spheres and the freeze button freezes both', async () => {
+    list = await positions();
+    const first = await clickSphere(list, { shift: true });
+    const one = selection(first.after);
+    if (one.count !== 1) fail(`a shift-click at (${first.x}, ${first.y}) on sphere ${first.key}: status '${first.after}'`);
+    const second = await clickSphere(list, { shift: true, except: [one.key] });
+    if (selection(second.after).count !== 2)
+      fail(`a second shift-click at (${second.x}, ${second.y}) on sphere ${second.key}: status '${second.after}', ` +
+           'not \'2 spheres selected\'');
+    const keys = [one.key, second.key];
+    const edits = collectEdits('freeze');
+    try {
+      await page.click('#freeze');
+      const deadline = Date.now() + WAIT_MS;
+      while (edits.sent.length < 2 && Date.now() < deadline) await page.waitForTimeout(50);
+      await page.waitForTimeout(300);  // no third
+    } finally {
+      edits.stop();
+    }
+    const bodies = edits.sent.map((r) => r.postDataJSON());
+    if (bodies.length !== 2) fail(`the freeze button with spheres ${keys.join(' and ')} selected sent ${JSON.stringify(bodies)}`);
+    const sentKeys = bodies.map((b) => b.key).sort((a, b) => a - b);
+    if (JSON.stringify(sentKeys) !== JSON.stringify([...keys].sort((a, b) => a - b)) || !bodies.every((b) => b.frozen === true))
+      fail(`the freeze button sent ${JSON.stringify(bodies)}, not frozen:true for spheres ${keys.join(' and ')}`);
+    for (const r of edits.sent) {
+      const reply = await r.response();
+      if (!reply.ok()) fail(`freeze refused: ${reply.status()} ${await reply.text()}`);
+    }
+    // Esc clears the selection (the mouse is on the button: nothing is hovered either).
+    await page.keyboard.press('Escape');
+    status = await statusText();
+    if (/ selected/.test(status)) fail(`after Esc, still '${status}'`);
+    noPageErrors();
+    return `spheres ${keys.join(' and ')} at (${first.x}, ${first.y}) and (${second.x}, ${second.y})`;
+  });
+
+  let finished = null;  // A and B of the status line's 'finished: measured error A % → B %'
+  await check('finish refines and pauses', async () => {
+    const before = sphereCount(await statusText());
+    const request = nextEdit('finish', WAIT_MS);
+    await page.click('#finish');
+    const sent = await request;
+    if (!sent) fail('the finish button sent no finish edit');
+    const reply = await sent.response();
+    if (!reply.ok()) fail(`finish refused: ${reply.status()} ${await reply.text()}`);
+    const pattern = /\nfinished: measured error (\d+(?:\.\d+)?) % → (\d+(?:\.\d+)?) % of the diagonal/;
+    await waitForStatus(pattern, '\'finished: measured error A % → B %\' on the status line', FINISH_MS);
+    const [, a, b] = pattern.exec(status).map(Number);
+    if (!(b <= a + 1e-9)) fail(`the finish made the error worse: ${a} % → ${b} %; status '${status}'`);
+    const after = sphereCount(status);
+    if (after !== before) fail(`${before} spheres before the finish, ${after} after: '${status}'`);
+    const [line] = status.split('\n');
+    if (!/ paused /.test(line) || !/\(paused/.test(status)) fail(`not paused after the finish: '${status}'`);
+    finished = { a, b };
+    noPageErrors();
+    return `${a} % → ${b} % of the diagonal, ${after} spheres, paused`;
+  });
+
   await check('W saves the skeleton and downloads it', async () => {
     const request = nextEdit('save', WAIT_MS);
     const download = page.waitForEvent('download', { timeout: WAIT_MS });
@@ -307,6 +435,11 @@ async function main() {
     if (!sent) fail('W sent no save edit');
     const reply = await (await sent.response()).json();
     if (!reply.ok) fail(`save refused: ${JSON.stringify(reply)}`);
+    // Saving finishes first (--finish-on-save, the default); here the finish button did already.
+    if (reply.finished !== true || typeof reply.error_percent !== 'number')
+      fail(`the save's reply is not of a finished skeleton: ${JSON.stringify(reply)}`);
+    if (finished && reply.error_percent.toFixed(2) !== finished.b.toFixed(2))
+      fail(`the save's reply says ${reply.error_percent} %, the finish ${finished.b} %`);
     if (!fs.existsSync(saved)) fail(`the reply says saved, but there is no ${saved}`);
     const shown = Number(/^spheres (\d+)\//.exec(await statusText())[1]);
     const vertices = plyVertexCount(saved);
@@ -320,7 +453,7 @@ async function main() {
     const message = await page.textContent('#message');
     if (!message.includes(`saved ${shown} spheres`)) fail(`message after saving: '${message}'`);
     noPageErrors();
-    return `${vertices} vertices in the PLY header, ${shown} spheres shown; download identical`;
+    return `${vertices} vertices in the PLY header, ${shown} spheres shown, finished at ${reply.error_percent.toFixed(2)} %; download identical`;
   });
 
   await check('screenshot', async () => {
