@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "commands.hpp"
@@ -10,6 +11,7 @@
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
+#include "vmas/vmas.hpp"
 
 namespace po = boost::program_options;
 
@@ -27,28 +29,14 @@ const char* kDescription =
     "\n"
     "options";
 
-std::string json_string(const std::string& text) {
-  std::string quoted = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      quoted += '\\';
-      quoted += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-      quoted += escaped;
-    } else {
-      quoted += c;
-    }
-  }
-  return quoted + "\"";
-}
-
 std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", value);
   return text;
 }
+
+// The figure as the summary prints it (6 significant digits), as a JSON number.
+double rounded(double value) { return std::stod(number(value)); }
 
 }  // namespace
 
@@ -140,23 +128,24 @@ int eval_command(int argc, const char* const* argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (vm.count("json")) {
-    std::cout << "{\"shape\": " << json_string(shape_path)
-              << ", \"medial\": " << json_string(medial_path)
-              << ", \"spheres\": " << medial.spheres.size()
-              << ", \"edges\": " << medial.edges.size() << ", \"faces\": " << medial.faces.size()
-              << ", \"diagonal\": " << number(result.diagonal)
-              << ", \"hausdorff_percent\": " << number(result.percent(result.hausdorff))
-              << ", \"surface_to_medial_max_percent\": "
-              << number(result.percent(result.surface_to_medial_max))
-              << ", \"surface_to_medial_mean_percent\": "
-              << number(result.percent(result.surface_to_medial_mean))
-              << ", \"medial_to_surface_max_percent\": "
-              << number(result.percent(result.medial_to_surface_max))
-              << ", \"medial_to_surface_mean_percent\": "
-              << number(result.percent(result.medial_to_surface_mean))
-              << ", \"surface_samples\": " << result.surface_sample_count
-              << ", \"boundary_samples\": " << result.boundary_sample_count
-              << ", \"seconds\": " << number(seconds) << "}\n";
+    // The fields of docs/json.md.
+    const nlohmann::ordered_json summary = {
+        {"vmas", version()},
+        {"shape", shape_path},
+        {"medial", medial_path},
+        {"spheres", medial.spheres.size()},
+        {"edges", medial.edges.size()},
+        {"faces", medial.faces.size()},
+        {"diagonal", rounded(result.diagonal)},
+        {"hausdorff_percent", rounded(result.percent(result.hausdorff))},
+        {"surface_to_medial_max_percent", rounded(result.percent(result.surface_to_medial_max))},
+        {"surface_to_medial_mean_percent", rounded(result.percent(result.surface_to_medial_mean))},
+        {"medial_to_surface_max_percent", rounded(result.percent(result.medial_to_surface_max))},
+        {"medial_to_surface_mean_percent", rounded(result.percent(result.medial_to_surface_mean))},
+        {"surface_samples", result.surface_sample_count},
+        {"boundary_samples", result.boundary_sample_count},
+        {"seconds", rounded(seconds)}};
+    std::cout << summary.dump() << "\n";
     return 0;
   }
   std::cout << "shape " << shape_path << ": " << shape.points.size() << " points"
