@@ -3,7 +3,10 @@
 // count, a sphere under the mouse is removed with D, a point's cluster is split with S, a click
 // selects a sphere that the remove button removes, shift-clicks select two spheres that the
 // freeze button freezes, the finish button refines and pauses, W saves the skeleton (finished,
-// and downloads it), and Ctrl-C (SIGINT) stops vmas with exit code 0.
+// and downloads it), ? shows and hides the help, the panel folds away and back, P and M toggle
+// the points and the medial mesh (I says a point cloud has no surface), the screenshot button
+// and K download a PNG, at 800 × 600 the folded panel leaves the model's centre uncovered, and
+// Ctrl-C (SIGINT) stops vmas with exit code 0.
 //
 // usage: node tests/browser/edit_page.test.mjs [VMAS_BINARY]      (or scripts/test-browser)
 //
@@ -199,7 +202,10 @@ async function main() {
     'click selects a sphere and the remove button removes it',
     'shift-click selects two spheres and the freeze button freezes both',
     'finish refines and pauses',
-    'W saves the skeleton and downloads it', 'screenshot', 'no console or page error',
+    'W saves the skeleton and downloads it',
+    '? shows the help overlay and hides it again', 'the panel folds away and back',
+    'P, M and I toggle points, medial mesh and surface', 'the screenshot button downloads a PNG',
+    'at 800 × 600 with the panel folded the model is not covered', 'screenshot', 'no console or page error',
     'the page loads beside 100 clients sitting on half-sent headers',
     'SIGINT stops vmas with exit code 0');
 
@@ -454,6 +460,145 @@ async function main() {
     if (!message.includes(`saved ${shown} spheres`)) fail(`message after saving: '${message}'`);
     noPageErrors();
     return `${vertices} vertices in the PLY header, ${shown} spheres shown, finished at ${reply.error_percent.toFixed(2)} %; download identical`;
+  });
+
+  // --- the help overlay, the panel's fold, the toggles, the screenshot button ------------------
+  // Whether SELECTOR is shown: a box on the page and no display: none.
+  const shown = async (selector) => {
+    const box = await page.locator(selector).boundingBox();
+    const display = await page.locator(selector).evaluate((e) => getComputedStyle(e).display);
+    return box !== null && box.width > 0 && box.height > 0 && display !== 'none';
+  };
+  const nextFrame = () => page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => resolve())));
+
+  await check('? shows the help overlay and hides it again', async () => {
+    if (await shown('#help')) fail('the help overlay is shown before ? is pressed');
+    await page.keyboard.press('Shift+Slash');  // '?'
+    if (!(await shown('#help'))) fail('? did not show #help');
+    const keysListed = (await page.locator('#help kbd').allTextContents()).map((k) => k.trim());
+    for (const key of ['Enter', 'W'])
+      if (!keysListed.includes(key)) fail(`the help lists no key ${key}: ${JSON.stringify(keysListed)}`);
+    const help = await page.locator('#help').boundingBox();
+    await page.keyboard.press('Shift+Slash');
+    if (await shown('#help')) fail('a second ? did not hide #help');
+    await page.click('#toggle-help');
+    if (!(await shown('#help'))) fail('the help button did not show #help');
+    await page.click('#toggle-help');
+    if (await shown('#help')) fail('a second click on the help button did not hide #help');
+    noPageErrors();
+    return `${keysListed.length} keys listed, ${Math.round(help.width)} × ${Math.round(help.height)} px at (${Math.round(help.x)}, ${Math.round(help.y)})`;
+  });
+
+  await check('the panel folds away and back', async () => {
+    const open = await page.locator('#panel').boundingBox();
+    if (!(await shown('#tools'))) fail('#tools is hidden before the fold button is clicked');
+    await page.click('#fold');
+    const folded = await page.locator('#panel').boundingBox();
+    for (const part of ['#tools', '#hint', '#message'])
+      if (await shown(part)) fail(`${part} is still shown with the panel folded`);
+    if (!(await shown('#status'))) fail('the status line is hidden with the panel folded');
+    if (!(await shown('#fold'))) fail('the fold button is hidden with the panel folded');
+    const foldText = (await page.textContent('#fold')).trim();
+    if (foldText !== '+') fail(`the fold button says '${foldText}' with the panel folded, not '+'`);
+    if (!(folded.height < 80)) {
+      const lines = await page.locator('#status').evaluate((e) =>
+        Math.round(e.getBoundingClientRect().height / parseFloat(getComputedStyle(e).lineHeight)));
+      fail(`the folded panel is ${Math.round(folded.width)} × ${Math.round(folded.height)} px (not below 80 px high), ` +
+           `its status line wrapped to ${lines} lines: '${await statusText()}'`);
+    }
+    await page.click('#fold');
+    if (!(await shown('#tools'))) fail('#tools is still hidden after the second click on the fold button');
+    const unfoldText = (await page.textContent('#fold')).trim();
+    if (unfoldText !== '−') fail(`the fold button says '${unfoldText}' with the panel open, not '−'`);
+    noPageErrors();
+    return `${Math.round(open.width)} × ${Math.round(open.height)} px open, ` +
+           `${Math.round(folded.width)} × ${Math.round(folded.height)} px folded`;
+  });
+
+  await check('P, M and I toggle points, medial mesh and surface', async () => {
+    const visible = () => page.evaluate(() => ({
+      points: pointCloud && pointCloud.visible, medial: edgeLines && edgeLines.visible,
+      faces: faceMesh && faceMesh.visible }));
+    const before = await visible();
+    if (before.points !== true || before.medial !== true || before.faces !== true)
+      fail(`before P and M: ${JSON.stringify(before)} (points, medial mesh all shown expected)`);
+    const steps = [['p', { points: false, medial: true, faces: true }], ['p', { points: true, medial: true, faces: true }],
+                   ['m', { points: true, medial: false, faces: false }], ['m', { points: true, medial: true, faces: true }]];
+    for (const [key, expected] of steps) {
+      await page.keyboard.press(key);
+      await nextFrame();
+      const now = await visible();
+      if (JSON.stringify(now) !== JSON.stringify(expected))
+        fail(`after ${key.toUpperCase()}: ${JSON.stringify(now)}, not ${JSON.stringify(expected)}`);
+    }
+    await page.keyboard.press('i');
+    const message = await page.textContent('#message');
+    if (!/the input is a point cloud: no surface to show/.test(message)) fail(`after I, #message says '${message}'`);
+    noPageErrors();
+    return `I: '${message}'`;
+  });
+
+  await check('the screenshot button downloads a PNG', async () => {
+    const saved = [];
+    for (const how of ['button', 'K']) {
+      const download = page.waitForEvent('download', { timeout: WAIT_MS });
+      if (how === 'button') await page.click('#screenshot');
+      else await page.keyboard.press('k');
+      const file = await download;
+      if (file.suggestedFilename() !== 'vmas-edit.png')
+        fail(`the screenshot (${how}) downloads '${file.suggestedFilename()}', not vmas-edit.png`);
+      const target = path.join(tmp, `vmas-edit-${how}.png`);
+      await file.saveAs(target);
+      const bytes = fs.readFileSync(target);
+      if (!bytes.subarray(0, 4).equals(Buffer.from([0x89, 0x50, 0x4e, 0x47])))
+        fail(`the screenshot (${how}) is not a PNG: it starts with ${bytes.subarray(0, 8).toString('hex')}`);
+      if (bytes.length <= 10_000) fail(`the screenshot (${how}) is ${bytes.length} bytes (10 KB or less)`);
+      // The PNG's IHDR: width and height at bytes 16 and 20.
+      saved.push(`${how}: ${bytes.readUInt32BE(16)} × ${bytes.readUInt32BE(20)}, ${Math.round(bytes.length / 1024)} KB`);
+    }
+    noPageErrors();
+    return saved.join('; ');
+  });
+
+  await check('at 800 × 600 with the panel folded the model is not covered', async () => {
+    const small = { width: 800, height: 600 };
+    const centre = () => page.evaluate(() => {
+      const c = pointCloud.geometry.boundingSphere.center.clone().project(camera);
+      return [(c.x + 1) / 2 * innerWidth, (1 - c.y) / 2 * innerHeight];
+    });
+    const inside = ([x, y], box) => !!box && x >= box.x && x <= box.x + box.width && y >= box.y && y <= box.y + box.height;
+    const describe = (box) => box ? `${Math.round(box.width)} × ${Math.round(box.height)} px at (${Math.round(box.x)}, ${Math.round(box.y)})` : 'not shown';
+    // The window's size changes at once, the page's canvas and camera at its resize event, a
+    // frame later (some 400 ms of software rendering here): wait for the canvas.
+    const resized = (size) => page.waitForFunction(({ width, height }) =>
+      innerWidth === width && innerHeight === height &&
+      renderer.domElement.clientWidth === width && renderer.domElement.clientHeight === height, size);
+    await page.setViewportSize(small);
+    try {
+      await resized(small);
+      await page.click('#fold');
+      try {
+        await nextFrame();
+        await nextFrame();
+        const shot = await page.screenshot();
+        fs.writeFileSync(path.join(tmp, 'folded-800x600.png'), shot);
+        if (shot.length < 10_000) fail(`the 800 × 600 screenshot is ${shot.length} bytes`);
+        const at = await centre();
+        if (!(at[0] > 0 && at[0] < small.width && at[1] > 0 && at[1] < small.height))
+          fail(`the model's centre projects to (${at.map(Math.round).join(', ')}), off the 800 × 600 view`);
+        const panel = await page.locator('#panel').boundingBox();
+        const help = await page.locator('#help').boundingBox();
+        if (inside(at, panel)) fail(`the model's centre (${at.map(Math.round).join(', ')}) is under the folded panel: ${describe(panel)}`);
+        if (inside(at, help)) fail(`the model's centre (${at.map(Math.round).join(', ')}) is under the help overlay: ${describe(help)}`);
+        noPageErrors();
+        return `centre at (${at.map(Math.round).join(', ')}); panel ${describe(panel)}; help ${describe(help)}`;
+      } finally {
+        await page.click('#fold');
+      }
+    } finally {
+      await page.setViewportSize(VIEWPORT);
+      await resized(VIEWPORT);
+    }
   });
 
   await check('screenshot', async () => {
