@@ -204,7 +204,8 @@ async function main() {
     'finish refines and pauses',
     'W saves the skeleton and downloads it',
     '? shows the help overlay and hides it again', 'the panel folds away and back',
-    'P, M and I toggle points, medial mesh and surface', 'the screenshot button downloads a PNG',
+    'P, M and I toggle points, medial mesh and surface', 'the sliders set the count and λ',
+    'the screenshot button downloads a PNG',
     'at 800 × 600 with the panel folded the model is not covered', 'screenshot', 'no console or page error',
     'the page loads beside 100 clients sitting on half-sent headers',
     'SIGINT stops vmas with exit code 0');
@@ -536,6 +537,33 @@ async function main() {
     if (!/the input is a point cloud: no surface to show/.test(message)) fail(`after I, #message says '${message}'`);
     noPageErrors();
     return `I: '${message}'`;
+  });
+
+  await check('the sliders set the count and λ', async () => {
+    // As a release of the slider does: its value, then the input and change events.
+    const slide = (id, value) => page.evaluate(([id, value]) => {
+      const slider = document.getElementById(id);
+      slider.value = value;
+      slider.dispatchEvent(new Event('input'));
+      slider.dispatchEvent(new Event('change'));
+    }, [id, String(value)]);
+    const before = sphereCount(await statusText());
+    const shown = Number(await page.inputValue('#count'));
+    if (shown !== before) fail(`the count slider shows ${shown} with ${before} spheres`);
+    const target = before - 2;
+    const request = nextEdit('target', WAIT_MS);
+    await slide('count', target);
+    const sent = await request;
+    if (!sent || sent.postDataJSON().spheres !== target) fail(`the count slider sent ${sent && sent.postData()}`);
+    await waitForStatus(new RegExp(`^spheres ${target}/${target} `), `${target} spheres`);
+    const lambdaRequest = nextEdit('lambda', WAIT_MS);
+    await slide('lambda', -1);
+    const lambdaSent = await lambdaRequest;
+    if (!lambdaSent || Math.abs(lambdaSent.postDataJSON().value - 0.1) > 1e-9)
+      fail(`the λ slider sent ${lambdaSent && lambdaSent.postData()}`);
+    await waitForStatus(/λ 0\.100/, 'λ 0.100');
+    noPageErrors();
+    return `spheres ${before} → ${target}, λ → 0.1`;
   });
 
   await check('the screenshot button downloads a PNG', async () => {
