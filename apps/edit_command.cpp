@@ -108,6 +108,8 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"finished", s.finished},
                   {"error_before_finish_percent", 100.0 * s.error_before_finish},
                   {"error_after_finish_percent", 100.0 * s.error_after_finish},
+                  {"measured_error_percent", 100.0 * s.measured_error},
+                  {"measured_at_iteration", s.measured_at_iteration},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres}};

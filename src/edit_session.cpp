@@ -20,6 +20,8 @@ using Clock = std::chrono::steady_clock;
 // page is updated (30/s): spheres may trade a few vertices for ever without converging, and an
 // editor left open would otherwise keep a core busy for nothing.
 constexpr auto kSettledStepPause = std::chrono::milliseconds(33);
+// A settled skeleton is measured at most this often (the page shows the error).
+constexpr auto kMeasureInterval = std::chrono::seconds(2);
 
 }  // namespace
 
@@ -222,13 +224,18 @@ void EditSession::apply_target(int target) {
   }
 }
 
+double EditSession::measure() {
+  const Skeletonizer& s = *skeletonizer_;
+  if (!evaluator_)  // a tree over the surface: built once, by the first measurement
+    evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
+  return (*evaluator_)(s.medial_mesh()).hausdorff / s.shape().diagonal;
+}
+
 void EditSession::apply_finish() {
   Skeletonizer& s = *skeletonizer_;
-  if (!evaluator_)  // a tree over the surface: built once, by the first finish
-    evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
   const double diagonal = s.shape().diagonal;
   const SkeletonizerState start = s.state();
-  error_before_finish_ = (*evaluator_)(s.medial_mesh()).hausdorff / diagonal;
+  error_before_finish_ = measure();
   for (int round = 0; round < s.options().final_rounds; ++round) s.final_refit(round);
   const RefineReport refined = refine_worst_served(s, *evaluator_, finish_options_.refine);
   error_after_finish_ = (finish_options_.refine.max_moves > 0
@@ -244,6 +251,8 @@ void EditSession::apply_finish() {
   ++finishes_;
   finished_ = true;
   paused_ = true;  // steps would undo the final refits
+  measured_error_ = error_after_finish_;
+  measured_at_iteration_ = iteration_;
 }
 
 void EditSession::publish(double steps_per_second) {
@@ -268,6 +277,8 @@ void EditSession::publish(double steps_per_second) {
   next.finished = finished_;
   next.error_before_finish = error_before_finish_;
   next.error_after_finish = error_after_finish_;
+  next.measured_error = measured_error_;
+  next.measured_at_iteration = measured_at_iteration_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;
@@ -283,6 +294,7 @@ void EditSession::work() {
   Skeletonizer& s = *skeletonizer_;
   s.restart_schedule();
   auto last_step = Clock::now();
+  auto last_measure = Clock::time_point();
   for (;;) {
     std::deque<Edit> edits;
     {
@@ -312,6 +324,11 @@ void EditSession::work() {
     }
     const Turn turn = s.advance();
     finished_ = false;
+    if (turn.done && Clock::now() - last_measure >= kMeasureInterval) {
+      measured_error_ = measure();
+      measured_at_iteration_ = iteration_ + 1;
+      last_measure = Clock::now();
+    }
     const auto now = Clock::now();
     const double seconds = std::chrono::duration<double>(now - last_step).count();
     last_step = now;

@@ -53,6 +53,12 @@ TEST(EditSession, GrowsToItsTargetWhileRunningAndLabelsEveryVertex) {
     ASSERT_LT(label, 8);
   }
   EXPECT_GT(s.iteration, 0);
+  // Settled, it measures its error every few seconds.
+  const EditSnapshot measured =
+      wait_until(*session, [](const EditSnapshot& s) { return s.measured_at_iteration >= 0; });
+  ASSERT_GE(measured.measured_at_iteration, 0);
+  EXPECT_GT(measured.measured_error, 0.0);
+  EXPECT_LT(measured.measured_error, 0.2);
 }
 
 TEST(EditSession, RemovedSphereStaysRemovedAndASplitAddsOne) {

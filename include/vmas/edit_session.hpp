@@ -44,6 +44,11 @@ struct EditSnapshot {
   int finishes = 0;
   bool finished = false;
   double error_before_finish = 0.0, error_after_finish = 0.0;
+  // The two-sided Hausdorff error relative to the diagonal (the refinement's measure), taken
+  // every few seconds once the spheres have settled, and the step it was taken after (-1: none
+  // yet).
+  double measured_error = 0.0;
+  int measured_at_iteration = -1;
 };
 
 // What finish() measures against and how it refines.
@@ -127,6 +132,7 @@ class EditSession {
   bool apply_one(const Edit& edit);  // apply() without the history
   void apply_target(int count);  // worker thread: the count target, reached at once when fewer
   void apply_finish();           // worker thread
+  double measure();              // worker thread: the error now, relative to the diagonal
   // What undo() brings back: the skeleton and the targets of a moment.
   struct Moment {
     SkeletonizerState state;
@@ -149,6 +155,8 @@ class EditSession {
   int finishes_ = 0;                      // worker's
   bool finished_ = false;
   double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
+  double measured_error_ = 0.0;
+  int measured_at_iteration_ = -1;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
