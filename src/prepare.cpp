@@ -7,6 +7,7 @@
 #include <string>
 
 #include "principal_axes.hpp"
+#include "stopwatch.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -226,7 +227,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   }
   // A mesh's holes are its boundary edges (MeshDefects).
   if (!surface.is_mesh()) report.holes = find_holes(surface.points, surface.normals);
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = internal::seconds_since(start);
   return report;
 }
 

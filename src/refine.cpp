@@ -7,9 +7,10 @@
 #include <string>
 #include <utility>
 
+#include "eval/envelope.hpp"
+#include "stopwatch.hpp"
 #include "vmas/connectivity.hpp"
 #include "vmas/error.hpp"
-#include "eval/envelope.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/partition.hpp"
 
@@ -188,7 +189,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   const auto start = std::chrono::steady_clock::now();
   Evaluator evaluator(surface, refinement_eval_options());
   RefineReport report = refine_worst_served(skeletonizer, evaluator, options, progress);
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = internal::seconds_since(start);
   return report;
 }
 
@@ -281,7 +282,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
   for (int c = 0; c < static_cast<int>(placed.size()); ++c)
     if (placed[c]) skeletonizer.freeze(c, false);
   report.error_after = best.hausdorff;
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = internal::seconds_since(start);
   return report;
 }
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "stopwatch.hpp"
 #include "vmas/connectivity.hpp"
 #include "vmas/error.hpp"
 #include "vmas/partition.hpp"
@@ -48,7 +49,8 @@ void SkeletonizerOptions::validate() const {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using internal::Clock;
+using internal::seconds_since;
 
 // Re-seeding rounds for tiny clusters after each final re-partition.
 constexpr int kFinalReseeds = 4;
@@ -58,10 +60,6 @@ constexpr int kFinalReseeds = 4;
 constexpr std::size_t kCoarseShare = 4;
 constexpr std::size_t kCoarseVerticesPerSphere = 50;
 constexpr double kCoarseAtMost = 0.7;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 }  // namespace
 

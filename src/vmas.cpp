@@ -10,6 +10,7 @@
 #include <utility>
 #include <string>
 
+#include "stopwatch.hpp"
 #include "vmas/connectivity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/normals.hpp"
@@ -25,11 +26,8 @@
 namespace vmas {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+using internal::Clock;
+using internal::seconds_since;
 
 // The OpenMP thread count of the calling thread for the duration of one call (OpenMP keeps it
 // per thread, so concurrent calls do not interfere).
@@ -290,11 +288,7 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   for (std::size_t i = 0; i < stand_in.size(); ++i)
     if (stand_in[i] >= 0) result.labels[result.clean.kept[i]] = labels[stand_in[i]];
 
-  const StageTimes& times = skeletonizer.times();
-  result.seconds.partition = times.partition;
-  result.seconds.update = times.update;
-  result.seconds.projection = times.projection;
-  result.seconds.split = times.split;
+  result.seconds += skeletonizer.times();
   pass.surface = std::move(prepared.surface);
   return pass;
 }

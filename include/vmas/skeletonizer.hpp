@@ -45,13 +45,25 @@ struct SkeletonizerOptions {
   void validate() const;  // throws InvalidOption; needs a sphere target or an error threshold
 };
 
-struct StageTimes {  // seconds spent in each stage so far
-  double partition = 0.0, update = 0.0, projection = 0.0, split = 0.0;
-  StageTimes& operator+=(const StageTimes& other) {
+// Seconds spent in each stage: a Skeletonizer's own (partition, update, projection, split) so
+// far, and vmas::skeletonize's whole run (Result::seconds).
+struct Timings {
+  double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
+         split = 0.0, refine = 0.0, connectivity = 0.0, other_starts = 0.0, smoothing_check = 0.0,
+         total = 0.0;
+  Timings& operator+=(const Timings& other) {
+    clean += other.clean;
+    prepare += other.prepare;
+    shape += other.shape;
     partition += other.partition;
     update += other.update;
     projection += other.projection;
     split += other.split;
+    refine += other.refine;
+    connectivity += other.connectivity;
+    other_starts += other.other_starts;
+    smoothing_check += other.smoothing_check;
+    total += other.total;
     return *this;
   }
 };
@@ -155,7 +167,7 @@ class Skeletonizer {
   const Shape& shape() const { return shape_; }
   const MedialProjector& projector() const { return projector_; }
   const SkeletonizerOptions& options() const { return options_; }
-  const StageTimes& times() const { return times_; }
+  const Timings& times() const { return times_; }  // of its own stages
   double total_error() const { return total_error_; }
 
  private:
@@ -192,7 +204,7 @@ class Skeletonizer {
   double total_error_ = 0.0;
   double previous_error_ = 0.0;  // the schedule's: the total error one turn ago
   int since_split_ = 0;          // ... and the steps since the last split or restart
-  StageTimes times_;
+  Timings times_;
 };
 
 }  // namespace vmas

@@ -62,11 +62,6 @@ struct Warning {
   std::string message;  // one line, for people
 };
 
-struct Timings {  // seconds
-  double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
-         split = 0.0, refine = 0.0, connectivity = 0.0, other_starts = 0.0, smoothing_check = 0.0,
-         total = 0.0;
-};
 
 // When the noise of a cloud was smoothed and the skeleton came out far from the data
 // (large-error), the points were skeletonized a second time as they are, and both skeletons
