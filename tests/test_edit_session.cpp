@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <string>
 #include <thread>
 
 #include "test_shapes.hpp"
@@ -122,16 +123,22 @@ TEST(EditSession, BadEditsAreRejectedAndPausingStopsTheSteps) {
   ASSERT_TRUE(paused.paused);
   session->wait_for_version(paused.version, 300);
   EXPECT_EQ(session->snapshot().iteration, paused.iteration);
-  // A flood of edits (a front end gone wild): each is applied or refused, nothing else.
+  // A flood of edits (a front end gone wild) while the worker is busy finishing (hundreds of
+  // milliseconds): the queue takes kMaxPendingEdits and refuses the rest, nothing else.
+  session->finish();
   std::size_t refused = 0;
+  std::string refusal;
   for (int i = 0; i < 5000; ++i) {
     try {
       session->set_lambda(0.2);
-    } catch (const InvalidArgument&) {
+    } catch (const InvalidArgument& e) {
       ++refused;
+      refusal = e.what();
     }
   }
+  EXPECT_GE(refused, 5000u - 2 * EditSession::kMaxPendingEdits);
   EXPECT_LT(refused, 5000u);
+  EXPECT_NE(refusal.find("too many edits waiting"), std::string::npos) << refusal;
   // Once the worker has caught up, edits are taken again.
   bool resumed_ok = false;
   for (int attempt = 0; attempt < 100 && !resumed_ok; ++attempt) {
