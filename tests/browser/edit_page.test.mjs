@@ -181,17 +181,24 @@ async function main() {
   // Moves the mouse over POSITIONS until it hovers a sphere whose key is not in EXCEPT, and
   // clicks there (with Shift held when SHIFT); returns the hovered key, the position and the
   // status line after the click.
+  // A sphere the optimisation moves away between the hover and the click (a new one, on a slow
+  // page) leaves nothing under the mouse: the next position is tried.
   const clickSphere = async (list, { shift = false, except = [] } = {}) => {
     for (;;) {
       const hovered = await hoverSphere(list);
       if (except.includes(hovered.key)) continue;
+      const selectedBefore = selection(await statusText()).count;
       if (shift) await page.keyboard.down('Shift');
       try {
         await page.mouse.click(hovered.x, hovered.y);
       } finally {
         if (shift) await page.keyboard.up('Shift');
       }
-      return { ...hovered, after: await statusText() };
+      const after = await statusText();
+      const gone = !/ hovered sphere /.test(after) &&
+                   selection(after).count === (shift ? selectedBefore : 0);
+      if (gone && list.length) continue;
+      return { ...hovered, after };
     }
   };
 
