@@ -233,15 +233,13 @@ double EditSession::measure() {
 
 void EditSession::apply_finish() {
   Skeletonizer& s = *skeletonizer_;
-  const double diagonal = s.shape().diagonal;
   const SkeletonizerState start = s.state();
   error_before_finish_ = measure();
   for (int round = 0; round < s.options().final_rounds; ++round) s.final_refit(round);
   const RefineReport refined = refine_worst_served(s, *evaluator_, finish_options_.refine);
-  error_after_finish_ = (finish_options_.refine.max_moves > 0
-                             ? refined.error_after
-                             : (*evaluator_)(s.medial_mesh()).hausdorff) /
-                        diagonal;
+  error_after_finish_ = finish_options_.refine.max_moves > 0
+                            ? refined.error_after / s.shape().diagonal
+                            : measure();
   // The refinement only keeps moves that help, but the refits before it may not: a finish never
   // leaves the skeleton worse than it found it.
   if (error_after_finish_ > error_before_finish_) {

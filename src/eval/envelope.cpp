@@ -85,6 +85,16 @@ void sample_triangle(const std::array<Vec3, 3>& t, double spacing, int piece,
   }
 }
 
+// A Piece or Solid from its id: ids number the spheres, then the cones, then the third kind.
+template <class Numbered>
+Numbered numbered(int id, std::size_t spheres, std::size_t cones, typename Numbered::Kind third) {
+  const int first_cone = static_cast<int>(spheres);
+  const int first_third = static_cast<int>(spheres + cones);
+  if (id < first_cone) return {Numbered::Kind::Sphere, id};
+  if (id < first_third) return {Numbered::Kind::Cone, id - first_cone};
+  return {third, id - first_third};
+}
+
 }  // namespace
 
 void check_medial(const MedialMesh& medial) {
@@ -166,19 +176,11 @@ Envelope::Envelope(const MedialMesh& medial) : spheres_(medial.spheres) {
 }
 
 Piece Envelope::piece(int id) const {
-  const int spheres = static_cast<int>(spheres_.size());
-  const int cones = static_cast<int>(cones_.size());
-  if (id < spheres) return {Piece::Kind::Sphere, id};
-  if (id < spheres + cones) return {Piece::Kind::Cone, id - spheres};
-  return {Piece::Kind::Triangle, id - spheres - cones};
+  return numbered<Piece>(id, spheres_.size(), cones_.size(), Piece::Kind::Triangle);
 }
 
 Solid Envelope::solid(int id) const {
-  const int spheres = static_cast<int>(spheres_.size());
-  const int cones = static_cast<int>(cones_.size());
-  if (id < spheres) return {Solid::Kind::Sphere, id};
-  if (id < spheres + cones) return {Solid::Kind::Cone, id - spheres};
-  return {Solid::Kind::Slab, id - spheres - cones};
+  return numbered<Solid>(id, spheres_.size(), cones_.size(), Solid::Kind::Slab);
 }
 
 int Envelope::owner_solid(int id) const {
