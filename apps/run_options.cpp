@@ -39,10 +39,10 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
   const Options defaults;
   // clang-format off
   visible.add_options()
-      ("spheres,n", po::value(&values.options.spheres),
+      ("spheres,n", po::value(&values.options.run.target.spheres),
        "number of medial spheres to produce (met exactly, at most the number of usable points; "
        "default 100 when --error is absent)")
-      ("error,e", po::value(&values.options.error),
+      ("error,e", po::value(&values.options.run.target.error),
        "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
        "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
       ("max-spheres", po::value(&values.options.run.max_spheres)->default_value(defaults.run.max_spheres),
@@ -113,12 +113,12 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
 
 void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   Options& options = values.options;
-  if (vm.count("spheres") && vm.count("error"))
-    throw po::error("give either --spheres or --error, not both");
-  if (vm.count("spheres") && options.spheres < 1)
+  // 0 is the library's "not given": given on the command line it is out of range.
+  const Target& target = options.run.target;
+  if (vm.count("spheres") && target.spheres < 1)
     throw InvalidOption("spheres",
-                        "must be at least 1 (got " + std::to_string(options.spheres) + ")");
-  if (vm.count("error") && !(options.error > 0.0)) throw InvalidOption("error", "must be positive");
+                        "must be at least 1 (got " + std::to_string(target.spheres) + ")");
+  if (vm.count("error") && !(target.error > 0.0)) throw InvalidOption("error", "must be positive");
   options.run.project = !vm.count("no-projection");
   options.run.coarse_start = !vm.count("no-coarse-start");
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);

@@ -119,8 +119,8 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
         << " (k=" << settings.options.prepare.normals.k << ")\n";
   const Options& o = settings.options;
   out << "parameters: "
-      << (o.error > 0.0 ? "error=" + text_of(o.error)
-                        : "spheres=" + std::to_string(o.spheres > 0 ? o.spheres : kDefaultSpheres))
+      << (o.run.target.error > 0.0 ? "error=" + text_of(o.run.target.error)
+                        : "spheres=" + std::to_string(o.run.target.count()))
       << " lambda=" << o.run.lambda << " k=" << o.shape.k
       << " projection=" << (o.run.project ? "on" : "off") << "\n";
   out << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";

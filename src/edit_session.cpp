@@ -122,16 +122,13 @@ std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_m
 
 EditSession::Moment EditSession::moment() const {
   const Skeletonizer& s = *skeletonizer_;
-  return {s.state(), s.options().target_spheres, s.options().error_threshold, s.options().lambda};
+  return {s.state(), s.options().target, s.options().lambda};
 }
 
 void EditSession::go_back_to(const Moment& m) {
   Skeletonizer& s = *skeletonizer_;
   s.restore(m.state);
-  if (m.target_spheres > 0)
-    s.set_target_spheres(m.target_spheres);
-  else
-    s.set_error_threshold(m.error_threshold);
+  s.set_target(m.target);
   s.set_lambda(m.lambda);
 }
 
@@ -166,13 +163,13 @@ bool EditSession::apply_one(const Edit& edit) {
       if (id < 0 || count() == 1) return false;
       s.remove_sphere(id);
       // The user chose the count: a removed sphere stays removed.
-      s.set_target_spheres(count());
+      s.set_target(Target{count()});
       return true;
     }
     case Edit::Kind::Split:
       if (count() >= most_spheres_) return false;
       s.add_sphere_at(edit.value);
-      s.set_target_spheres(std::max(s.options().target_spheres, count()));
+      s.set_target(Target{std::max(s.options().target.count(), count())});
       return true;
     case Edit::Kind::Freeze: {
       const int id = s.id_of(edit.key);
@@ -184,7 +181,7 @@ bool EditSession::apply_one(const Edit& edit) {
       apply_target(edit.value);
       return true;
     case Edit::Kind::TargetBy: {
-      const int now = s.options().target_spheres > 0 ? s.options().target_spheres : count();
+      const int now = s.options().target.count() > 0 ? s.options().target.count() : count();
       const long long wanted = static_cast<long long>(now) + edit.value;
       apply_target(static_cast<int>(std::clamp<long long>(wanted, 1, most_spheres_)));
       return true;
@@ -210,7 +207,7 @@ bool EditSession::apply_one(const Edit& edit) {
 
 void EditSession::apply_target(int target) {
   Skeletonizer& s = *skeletonizer_;
-  s.set_target_spheres(target);
+  s.set_target(Target{target});
   // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
   while (static_cast<int>(s.spheres().size()) > target) {
     const int count = static_cast<int>(s.spheres().size());
@@ -260,7 +257,7 @@ void EditSession::publish(double steps_per_second) {
   next.steps_per_second = steps_per_second;
   next.error = s.total_error();
   next.paused = paused_;
-  next.target_spheres = s.options().target_spheres;
+  next.target_spheres = s.options().target.count();
   next.lambda = s.options().lambda;
   next.keys = s.keys();
   next.spheres = s.spheres();

@@ -228,7 +228,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     if (progress &&
         !progress(Progress{Progress::Phase::Refining, report.tried,
                            static_cast<int>(skeletonizer.spheres().size()),
-                           skeletonizer.options().target_spheres, best.hausdorff / best.diagonal,
+                           skeletonizer.options().target.count(), best.hausdorff / best.diagonal,
                            report.tried + 1, options.max_moves})) {
       report.cancelled = true;
       break;

@@ -22,18 +22,18 @@ void SkeletonizerOptions::validate() const {
   if (final_rounds < 0 || final_rounds > 100)
     throw InvalidOption("final-rounds",
                         "must be between 0 and 100 (got " + std::to_string(final_rounds) + ")");
-  if (target_spheres < 0)
+  if (target.spheres < 0)
     throw InvalidOption("spheres",
-                        "must be at least 1 (got " + std::to_string(target_spheres) + ")");
-  if (!(error_threshold >= 0.0 && error_threshold < 1.0))
+                        "must be at least 1 (got " + std::to_string(target.spheres) + ")");
+  if (!(target.error >= 0.0 && target.error < 1.0))
     throw InvalidOption("error", "must be in (0, 1), relative to the bounding-box diagonal (got " +
-                                     std::to_string(error_threshold) + ")");
-  if (target_spheres == 0 && error_threshold == 0.0)
-    throw InvalidOption("give a sphere count or an error threshold");
+                                     std::to_string(target.error) + ")");
+  if (target.spheres > 0 && target.error > 0.0)
+    throw InvalidOption("error", "cannot go with spheres: give one or the other");
   if (max_spheres < 1) throw InvalidOption("max-spheres", "must be at least 1");
-  if (target_spheres > max_spheres)
+  if (target.count() > max_spheres)
     throw InvalidOption("spheres", "must be at most " + std::to_string(max_spheres) + " (got " +
-                                       std::to_string(target_spheres) + ")");
+                                       std::to_string(target.count()) + ")");
   if (max_iterations < 1) throw InvalidOption("max-iterations", "must be at least 1");
   if (!(convergence >= 0.0 && convergence < 1.0))
     throw InvalidOption("convergence",
@@ -66,10 +66,7 @@ constexpr double kCoarseAtMost = 0.7;
 Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
     : shape_(std::move(shape)), options_(options), projector_(shape_, options.shrinking_ball) {
   options_.validate();
-  if (options_.target_spheres > shape_.size())
-    throw InvalidOption("spheres", "must be at most the number of points (" +
-                                       std::to_string(shape_.size()) + ", got " +
-                                       std::to_string(options_.target_spheres) + ")");
+  check_target_fits(options_.target);
   // One cluster holding every vertex: fit its sphere from the centroid, then project it.
   std::vector<int> all(shape_.size());
   Vec3 centroid = Vec3::Zero();
@@ -208,13 +205,20 @@ void Skeletonizer::fit_and_project(double lambda) {
   energies_current_ = false;
 }
 
+void Skeletonizer::check_target_fits(const Target& target) const {
+  if (target.count() > shape_.size())
+    throw InvalidOption("spheres", "must be at most the number of points (" +
+                                       std::to_string(shape_.size()) + ", got " +
+                                       std::to_string(target.count()) + ")");
+}
+
 int Skeletonizer::sphere_cap() const {
   // More spheres than points would leave clusters empty.
   return std::min(options_.max_spheres, shape_.size());
 }
 
 bool Skeletonizer::misses_error_threshold() const {
-  const double threshold = std::pow(options_.error_threshold * shape_.diagonal, 2);
+  const double threshold = std::pow(options_.target.error * shape_.diagonal, 2);
   for (std::size_t c = 0; c < spheres_.size(); ++c)
     if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
   return false;
@@ -222,19 +226,19 @@ bool Skeletonizer::misses_error_threshold() const {
 
 bool Skeletonizer::wants_more_spheres() const {
   const int count = static_cast<int>(spheres_.size());
-  if (options_.target_spheres > 0) return count < options_.target_spheres;
+  if (options_.target.count() > 0) return count < options_.target.count();
   return count < sphere_cap() && misses_error_threshold();
 }
 
 int Skeletonizer::split() {
   const auto start = Clock::now();
   const int count = static_cast<int>(spheres_.size());
-  const int cap = options_.target_spheres > 0 ? options_.target_spheres : sphere_cap();
+  const int cap = options_.target.count() > 0 ? options_.target.count() : sphere_cap();
   // An error target may need thousands of spheres: it grows by the fraction alone. A large
   // count target grows by a share of the count too (below 200 spheres the share is under the
   // cap), or it would take a hundred rounds.
   const int per_round =
-      options_.target_spheres > 0
+      options_.target.count() > 0
           ? std::max(options_.split.max_per_round, count / options_.split.large_count_share)
           : std::numeric_limits<int>::max();
   const int max_count = std::min(
@@ -242,7 +246,7 @@ int Skeletonizer::split() {
   if (max_count <= 0) return 0;
   // With an error target, only clusters that still miss it may split (paper §3.4).
   const double threshold =
-      options_.target_spheres > 0 ? -1.0 : std::pow(options_.error_threshold * shape_.diagonal, 2);
+      options_.target.count() > 0 ? -1.0 : std::pow(options_.target.error * shape_.diagonal, 2);
   std::vector<bool> eligible(count);
   std::vector<double> rank(count);
   for (int c = 0; c < count; ++c) {
@@ -300,7 +304,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
     summary.cancelled =
         progress &&
         !progress(Progress{phase, summary.iterations, static_cast<int>(spheres_.size()),
-                           options_.target_spheres, error, round, options_.final_rounds});
+                           options_.target.count(), error, round, options_.final_rounds});
     return !summary.cancelled;
   };
   const auto finish = [&] {
@@ -308,7 +312,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
         summary.iterations == options_.max_iterations && !summary.converged;
     summary.spheres = static_cast<int>(spheres_.size());
     summary.error = total_error_;
-    summary.error_threshold_missed = options_.target_spheres == 0 && misses_error_threshold();
+    summary.error_threshold_missed = options_.target.count() == 0 && misses_error_threshold();
     return summary;
   };
   const int coarse_iterations = start_coarse(progress, summary.cancelled);
@@ -336,7 +340,7 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
 
 int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled) {
   const std::size_t vertices = shape_.size();
-  const std::size_t target = options_.target_spheres;
+  const std::size_t target = options_.target.count();
   const std::size_t budget = std::max(vertices / kCoarseShare, kCoarseVerticesPerSphere * target);
   if (!options_.coarse_start || target == 0 || spheres_.size() != 1 ||
       budget > kCoarseAtMost * vertices)
@@ -415,25 +419,11 @@ void Skeletonizer::freeze(int id, bool frozen) {
   frozen_[id] = frozen;
 }
 
-void Skeletonizer::set_target_spheres(int count) {
+void Skeletonizer::set_target(const Target& target) {
   SkeletonizerOptions changed = options_;
-  changed.target_spheres = count;
-  changed.error_threshold = 0.0;
-  if (count < 1)
-    throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(count) + ")");
+  changed.target = target;
   changed.validate();
-  if (count > shape_.size())
-    throw InvalidOption("spheres", "must be at most the number of points (" +
-                                       std::to_string(shape_.size()) + ", got " +
-                                       std::to_string(count) + ")");
-  options_ = changed;
-}
-
-void Skeletonizer::set_error_threshold(double error) {
-  SkeletonizerOptions changed = options_;
-  changed.target_spheres = 0;
-  changed.error_threshold = error;
-  changed.validate();
+  check_target_fits(changed.target);
   options_ = changed;
 }
 

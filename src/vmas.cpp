@@ -54,15 +54,6 @@ class ThreadCount {
   int previous_ = 0;
 };
 
-SkeletonizerOptions run_options(const Options& options) {
-  SkeletonizerOptions run = options.run;
-  run.error_threshold = options.error;
-  run.target_spheres = options.spheres > 0   ? options.spheres
-                       : options.error > 0.0 ? 0
-                                             : kDefaultSpheres;
-  return run;
-}
-
 // A measured error above this fraction of the diagonal is a warning (large-error).
 constexpr double kLargeError = 0.05;
 
@@ -144,15 +135,12 @@ std::vector<Warning> warnings_about(const Result& result) {
 const char* version() { return VMAS_VERSION_STRING; }
 
 void Options::validate() const {
-  if (spheres < 0)
-    throw InvalidOption("spheres", "must be at least 1 (got " + std::to_string(spheres) + ")");
-  if (spheres > 0 && error > 0.0) throw InvalidOption("give either spheres or error, not both");
   if (threads < 0)
     throw InvalidOption("threads", "must be 0 or more (got " + std::to_string(threads) + ")");
   if (starts < 1 || starts > kMaxStarts)
     throw InvalidOption("starts", "must be between 1 and " + std::to_string(kMaxStarts) +
                                       " (got " + std::to_string(starts) + ")");
-  run_options(*this).validate();
+  run.validate();
   shape.validate();
   prepare.validate();
   refine.validate();
@@ -165,11 +153,11 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
                                     const ProgressCallback& progress) {
   const auto start = Clock::now();
   PreparedShape prepared;
-  prepared.run = run_options(options);
+  prepared.run = options.run;
   const auto check_cancel = [&] {
     Progress preparing;
     preparing.phase = Progress::Phase::Preparing;
-    preparing.target_spheres = prepared.run.target_spheres;
+    preparing.target_spheres = prepared.run.target.count();
     if (progress && !progress(preparing)) throw Cancelled();
   };
   check_cancel();
@@ -264,8 +252,8 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   }
   if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
-  if (run.target_spheres > 0 && result.summary.spheres < run.target_spheres)
-    throw InvalidInput("cannot place " + std::to_string(run.target_spheres) + " spheres on " +
+  if (run.target.count() > 0 && result.summary.spheres < run.target.count())
+    throw InvalidInput("cannot place " + std::to_string(run.target.count()) + " spheres on " +
                        std::to_string(skeletonizer.shape().size()) + " usable points (placed " +
                        std::to_string(result.summary.spheres) + "); ask for fewer");
 

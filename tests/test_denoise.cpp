@@ -151,7 +151,7 @@ TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
   input.points = test::with_noise(shape.points, 0.01 * test::bounding_diagonal(shape.points), 14);
   const PrepareReport report = prepare_surface(input, {});
   SkeletonizerOptions options;
-  options.target_spheres = 10;
+  options.target.spheres = 10;
   adapt_shrinking_ball(report, options.shrinking_ball);
   Skeletonizer skeletonizer(build_shape(input, {}), options);
   skeletonizer.run();
@@ -201,7 +201,7 @@ TEST(PrepareNoisy, NoisyMeshKeepsItsFacesAndStaysClosed) {
   EXPECT_LT(rms_off_sphere(prepared.points), 0.5 * before);
 
   Options options;
-  options.spheres = 4;
+  options.run.target.spheres = 4;
   const Result result = skeletonize(mesh, options);
   EXPECT_GE(result.enclosure, 0.8);
   EXPECT_EQ(result.skeleton_components, 1);

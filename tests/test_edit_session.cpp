@@ -21,7 +21,7 @@ std::unique_ptr<EditSession> capsule_session(int spheres) {
   cloud.points = s.points;
   cloud.normals = s.normals;
   SkeletonizerOptions options;
-  options.target_spheres = spheres;
+  options.target.spheres = spheres;
   return std::make_unique<EditSession>(build_shape(cloud, ShapeOptions{}), options);
 }
 

@@ -56,7 +56,7 @@ TEST_P(RealMesh, PaperSphereCountGivesAValidConnectedSkeletonInsideTheShape) {
   REQUIRE_SHARED_DATA(relative);
   const SurfaceInput surface = read_surface(shared_data(relative));
   SkeletonizerOptions options;
-  options.target_spheres = spheres;
+  options.target.spheres = spheres;
   Skeletonizer skeletonizer(build_shape(surface, {}), options);
   skeletonizer.run();
   const MedialMesh mesh = skeletonizer.medial_mesh();
@@ -76,7 +76,7 @@ TEST(RealMesh, RefinementLowersTheErrorOfBug) {
   REQUIRE_SHARED_DATA("meshes/bug.off");
   const SurfaceInput bug = read_surface(shared_data("meshes/bug.off"));
   Options options;
-  options.spheres = 75;
+  options.run.target.spheres = 75;
   const Result refined = skeletonize(bug, options);
   options.refine.max_moves = 0;
   const Result plain = skeletonize(bug, options);
@@ -110,7 +110,7 @@ TEST(RealMesh, NoisyMeshesLeaveNoSphereWithoutVertices) {
           p += Vec3(x, y, z);
         }
         Options options;
-        options.spheres = spheres;
+        options.run.target.spheres = spheres;
         options.starts = 1;  // a property of every start (and two take twice as long in CI's
                              // sanitized build)
         const Result result = skeletonize(noisy, options);
@@ -163,7 +163,7 @@ TEST(RealCloud, SmoothingAThinNoisyShapeIsNoWorseThanTakingItsPointsAsTheyAre) {
   cloud.points = test::with_noise(sample_area(chair, 30000, 3),
                                   0.02 * test::bounding_diagonal(chair.points), 4);
   Options options;
-  options.spheres = 117;
+  options.run.target.spheres = 117;
   options.starts = 1;  // one start is enough for the property (two double CI's sanitized time)
   const Result result = skeletonize(cloud, options);
   EXPECT_GT(result.prepare.noise.sigma, 0.01 * result.prepare.diagonal);  // as measured
@@ -182,7 +182,7 @@ TEST(RealScan, MergedBunnyWithoutNormalsGivesAValidSkeleton) {
   ASSERT_FALSE(cloud.has_normals());
   cloud.normals = estimate_normals(cloud.points, {});
   SkeletonizerOptions options;
-  options.target_spheres = 40;
+  options.target.spheres = 40;
   Skeletonizer skeletonizer(build_shape(cloud, {}), options);
   skeletonizer.run();
   const MedialMesh mesh = skeletonizer.medial_mesh();

@@ -14,7 +14,7 @@ namespace {
 
 SkeletonizerOptions with_target(int spheres) {
   SkeletonizerOptions options;
-  options.target_spheres = spheres;
+  options.target.spheres = spheres;
   return options;
 }
 
@@ -73,10 +73,10 @@ TEST(Skeletonizer, SphereCountIsMetExactly) {
 
 TEST(Skeletonizer, ErrorThresholdStopsSplitting) {
   SkeletonizerOptions options;
-  options.error_threshold = 0.01;
+  options.target.error = 0.01;
   Skeletonizer coarse(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), options);
   coarse.run();
-  options.error_threshold = 0.002;
+  options.target.error = 0.002;
   Skeletonizer fine(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), options);
   fine.run();
   EXPECT_LT(coarse.spheres().size(), fine.spheres().size());
@@ -92,7 +92,7 @@ TEST(Skeletonizer, ErrorThresholdNeverGivesMoreSpheresThanPoints) {
   cloud.points = test::with_noise(few.points, 0.2, 3);
   cloud.normals = few.normals;
   SkeletonizerOptions options;
-  options.error_threshold = 1e-4;
+  options.target.error = 1e-4;
   Skeletonizer skeletonizer(build_shape(cloud, {}), options);
   skeletonizer.run();
   EXPECT_LE(skeletonizer.spheres().size(), 40u);
@@ -155,12 +155,15 @@ TEST(Skeletonizer, KeysStayWithTheirSpheres) {
 TEST(Skeletonizer, BadOptionsAreRejected) {
   const Shape shape = build_shape(test::icosphere(Vec3::Zero(), 1.0, 2), {});
   SkeletonizerOptions options;
-  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);  // no target at all
-  options.target_spheres = 1;
+  options.target = {10, 0.01};  // a count and a threshold
+  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
+  options.target = {-1, 0.0};
+  EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
+  options.target = {1, 0.0};
   options.lambda = -1;
   EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
   options.lambda = 0.2;
-  options.target_spheres = shape.size() + 1;
+  options.target.spheres = shape.size() + 1;
   EXPECT_THROW(Skeletonizer(shape, options), InvalidOption);
 }
 

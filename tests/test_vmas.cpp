@@ -34,7 +34,7 @@ TEST(OneCall, LabelsIndexTheInputPointsWithMinusOneForDroppedOnes) {
   cloud.points.insert(cloud.points.begin() + 10, Vec3(nan, nan, nan));
   cloud.points.push_back(cloud.points[20]);
   Options options;
-  options.spheres = 6;
+  options.run.target.spheres = 6;
   const Result result = skeletonize(cloud, options);
   ASSERT_EQ(result.medial_mesh.spheres.size(), 6u);
   ASSERT_EQ(result.labels.size(), cloud.points.size());
@@ -70,7 +70,7 @@ TEST(OneCall, AThinnedCloudStillLabelsEveryInputPoint) {
   SurfaceInput cloud;
   cloud.points = s.points;
   Options options;
-  options.spheres = 8;
+  options.run.target.spheres = 8;
   options.prepare.max_points = 3000;
   const Result result = skeletonize(cloud, options);
   EXPECT_EQ(result.prepare.thinned_from, 12000u);
@@ -99,7 +99,7 @@ TEST(OneCall, AThinnedCloudStillLabelsEveryInputPoint) {
 TEST(OneCall, ReportsEveryPhaseAndCancelsWhenTheCallbackSaysSo) {
   const SurfaceInput cloud = capsule_cloud();
   Options options;
-  options.spheres = 4;
+  options.run.target.spheres = 4;
   bool preparing = false, optimising = false;
   int last_round = 0, rounds = 0;
   skeletonize(cloud, options, [&](const Progress& p) {
@@ -141,7 +141,7 @@ SurfaceInput box_cloud() {
 TEST(Refine, KeepsOnlyMovesThatLowerTheMeasuredErrorAndTheExactCount) {
   const SurfaceInput box = box_cloud();
   Options options;
-  options.spheres = 12;
+  options.run.target.spheres = 12;
   const Result refined = skeletonize(box, options);
   options.refine.max_moves = 0;
   const Result plain = skeletonize(box, options);
@@ -170,7 +170,7 @@ void expect_same_spheres(const Result& a, const Result& b) {
 TEST(Refine, SameResultWithOneAndTwoThreadsAndCancellable) {
   const SurfaceInput box = box_cloud();
   Options options;
-  options.spheres = 12;
+  options.run.target.spheres = 12;
   options.threads = 1;
   const Result one = skeletonize(box, options);
   options.threads = 2;
@@ -217,7 +217,7 @@ TEST(OneCall, ASkeletonMovesWithItsInput) {
     SurfaceInput moved = *input;
     for (Vec3& p : moved.points) p = scale * (rotation * p) + offset;
     Options options;
-    options.spheres = 12;
+    options.run.target.spheres = 12;
     const Result here = skeletonize(*input, options);
     const Result there = skeletonize(moved, options);
     const char* kind = input->is_mesh() ? "mesh" : "cloud";
@@ -242,7 +242,7 @@ TEST(OneCall, ASkeletonMovesWithItsInput) {
 TEST(OneCall, StartsSideBySideOrOneAfterTheOtherGiveTheSameResult) {
   const SurfaceInput cloud = capsule_cloud();
   Options options;
-  options.spheres = 6;
+  options.run.target.spheres = 6;
   options.threads = 2;
   const Result side_by_side = skeletonize(cloud, options);
   options.threads = 1;
@@ -265,7 +265,7 @@ TEST(OneCall, ThreadCountIsAnOptionNotGlobalState) {
   const int previous = omp_get_max_threads();
   omp_set_num_threads(1);
   Options options;
-  options.spheres = 3;
+  options.run.target.spheres = 3;
   options.starts = 1;  // one optimisation, with every thread of the call
   int seen = 0;
   const auto watch = [&](const Progress&) {
@@ -296,11 +296,11 @@ TEST(OneCall, OptionErrorsNameTheOption) {
     EXPECT_EQ(std::string(e.what()).rfind("lambda must", 0), 0u) << e.what();
   }
   options = Options();
-  options.spheres = 10;
-  options.error = 0.01;
+  options.run.target.spheres = 10;
+  options.run.target.error = 0.01;
   EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
   options = Options();
-  options.spheres = 5000;  // more than the 3000 points
+  options.run.target.spheres = 5000;  // more than the 3000 points
   EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
 }
 
@@ -308,7 +308,7 @@ TEST(OneCall, DefaultsToTheCliSphereCountAndHonoursAnErrorThreshold) {
   const SurfaceInput cloud = capsule_cloud();
   EXPECT_EQ(skeletonize(cloud).medial_mesh.spheres.size(), std::size_t(kDefaultSpheres));
   Options options;
-  options.error = 0.02;
+  options.run.target.error = 0.02;
   const Result result = skeletonize(cloud, options);
   EXPECT_GT(result.medial_mesh.spheres.size(), 1u);
   EXPECT_LT(result.medial_mesh.spheres.size(), 60u);
@@ -317,7 +317,7 @@ TEST(OneCall, DefaultsToTheCliSphereCountAndHonoursAnErrorThreshold) {
 TEST(OneCallWarnings, OpenMeshAndMisorientedFaces) {
   SurfaceInput sphere = test::icosphere(Vec3::Zero(), 1.0, 3);
   Options options;
-  options.spheres = 3;
+  options.run.target.spheres = 3;
   const Result closed = skeletonize(sphere, options);
   EXPECT_TRUE(closed.warnings.empty()) << closed.warnings.front().message;
   EXPECT_EQ(closed.mesh_defects.boundary_edges, 0u);
@@ -346,7 +346,7 @@ TEST(OneCallWarnings, InwardNormalsAndOpenScans) {
     cloud.normals.push_back((axis_point - p).normalized());
   }
   Options options;
-  options.spheres = 3;
+  options.run.target.spheres = 3;
   EXPECT_TRUE(has_warning(skeletonize(cloud, options), "inward-normals"));
   options.prepare.orient_normals = true;
   EXPECT_FALSE(has_warning(skeletonize(cloud, options), "inward-normals"));
@@ -355,7 +355,7 @@ TEST(OneCallWarnings, InwardNormalsAndOpenScans) {
   for (const Vec3& p : test::sample_sphere(Vec3::Zero(), 1.0, 3000, 42).points)
     if (p.z() > 0.0) half.points.push_back(p);
   options = Options();
-  options.spheres = 3;
+  options.run.target.spheres = 3;
   const Result scan = skeletonize(half, options);
   EXPECT_LT(scan.enclosure, MedialProjector::kEnclosed);
   EXPECT_TRUE(has_warning(scan, "open-surface"));

@@ -64,7 +64,7 @@ class EditSession {
   // Most edits waiting at once; more is an error (a front end gone wild, or an attack).
   static constexpr std::size_t kMaxPendingEdits = 1000;
 
-  // Starts optimising at once (from one sphere, splitting up to options.target_spheres), with
+  // Starts optimising at once (from one sphere, splitting up to options.target), with
   // `threads` OpenMP threads in the worker (0: OpenMP's default, all cores).
   EditSession(Shape shape, const SkeletonizerOptions& options, int threads = 0,
               FinishOptions finish = {});
@@ -136,8 +136,8 @@ class EditSession {
   // What undo() brings back: the skeleton and the targets of a moment.
   struct Moment {
     SkeletonizerState state;
-    int target_spheres = 0;
-    double error_threshold = 0.0, lambda = 0.0;
+    Target target;
+    double lambda = 0.0;
   };
   Moment moment() const;            // worker thread
   void go_back_to(const Moment& m);  // worker thread

@@ -5,7 +5,7 @@
 //   pcl::PointCloud<pcl::PointXYZRGB> cloud;         // any point type with x, y, z
 //   pcl::io::loadPCDFile("scan.pcd", cloud);          // organised clouds with NaNs are fine
 //   vmas::Options options;
-//   options.spheres = 40;
+//   options.run.target.spheres = 40;
 //   const vmas::Result result = vmas::skeletonize(cloud, options);
 //   // result.labels[i]: the sphere of cloud[i] (-1 for NaN points, duplicates, outliers)
 //   const std::vector<pcl::PointIndices> clusters = vmas::clusters_of(result);

@@ -17,13 +17,25 @@
 
 namespace vmas {
 
+// Spheres produced when neither a count nor an error threshold is given.
+constexpr int kDefaultSpheres = 100;
+
+// Where splitting stops: a sphere count, met exactly, or an error threshold.
+struct Target {
+  int spheres = 0;     // spheres to produce (0: none given)
+  double error = 0.0;  // instead of a count: split until every cluster's RMS error √E(C) (eq. 12)
+                       // is below this fraction of the diagonal (e.g. 0.005), at most
+                       // max_spheres spheres; scan noise sets a floor (0: none given)
+  // The count aimed at: `spheres`, 0 when the threshold decides, kDefaultSpheres when neither
+  // is given.
+  int count() const { return spheres > 0 ? spheres : error > 0.0 ? 0 : kDefaultSpheres; }
+};
+
 struct SkeletonizerOptions {
   double lambda = 0.2;           // weight of the point–sphere term (eq. 8, 11)
   double final_lambda = 0.01;    // λ of the refits that end run(): spheres reach extremities
   int final_rounds = 3;          // refits after the optimisation (0: none)
-  int target_spheres = 0;        // stop splitting at this many spheres (0: no count target)
-  double error_threshold = 0.0;  // split until every cluster's RMS error √E(C) (eq. 12) is below
-                                 // this, relative to the diagonal (0: no error target)
+  Target target;
   int max_spheres = 5000;        // hard cap when only an error threshold is given (and never
                                  // more spheres than points)
   int max_iterations = 3000;     // partition + update steps in run()
@@ -42,7 +54,7 @@ struct SkeletonizerOptions {
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
 
-  void validate() const;  // throws InvalidOption; needs a sphere target or an error threshold
+  void validate() const;  // throws InvalidOption
 };
 
 // Seconds spent in each stage: a Skeletonizer's own (partition, update, projection, split) so
@@ -146,10 +158,8 @@ class Skeletonizer {
   int add_sphere(const Sphere& sphere);  // as given (e.g. a projected one); returns its id
   void remove_sphere(int id);
   void freeze(int id, bool frozen = true);  // a frozen sphere is neither moved, split nor removed
-  // A new count target (replaces an error threshold) or λ for the steps to come; InvalidOption
-  // when out of range.
-  void set_target_spheres(int count);
-  void set_error_threshold(double error);  // instead of a count target (replaces it)
+  // A new target or λ for the steps to come; InvalidOption when out of range.
+  void set_target(const Target& target);
   void set_lambda(double lambda);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
@@ -183,6 +193,7 @@ class Skeletonizer {
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   bool misses_error_threshold() const;  // some free cluster's E(C) is above the threshold
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
+  void check_target_fits(const Target& target) const;  // InvalidOption: more spheres than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
   void check_id(int id) const;

@@ -5,7 +5,7 @@
 // PCL types include vmas/pcl.hpp.
 //
 //   vmas::Options options;
-//   options.spheres = 40;
+//   options.run.target.spheres = 40;
 //   const vmas::Result result = vmas::skeletonize(surface, options);
 //   vmas::write_medial_mesh("skeleton.ply", result.medial_mesh);
 //
@@ -26,17 +26,10 @@ namespace vmas {
 // "0.2.0": the version of the library this program runs with.
 const char* version();
 
-// Spheres produced when neither a count nor an error threshold is given.
-constexpr int kDefaultSpheres = 100;
-
 // Every option of `vmas skeletonize`, with its defaults.
 constexpr int kMaxStarts = 8;
 
 struct Options {
-  int spheres = 0;          // spheres to produce, met exactly (0 with error 0: kDefaultSpheres)
-  double error = 0.0;       // instead of a count: split until every cluster's RMS error √E(C) is
-                            // below this fraction of the diagonal (e.g. 0.005), at most
-                            // run.max_spheres (5000) spheres; scan noise sets a floor
   int threads = 0;          // OpenMP threads of this call (0: OpenMP's default, all cores)
   int starts = 2;           // optimisations, each in its own turn of the working frame
                             // (turn_working_frame), at most kMaxStarts; the one with the least
@@ -46,8 +39,8 @@ struct Options {
                             // (1: less time)
   PrepareOptions prepare;   // denoising (auto), outliers, normal estimation and orientation
   ShapeOptions shape;       // k of a cloud's neighbour graph
-  SkeletonizerOptions run;  // λ, final refits, convergence, shrinking balls, ...; its
-                            // target_spheres and error_threshold are ignored (set from above)
+  SkeletonizerOptions run;  // the target (run.target: spheres or error), λ, final refits,
+                            // convergence, shrinking balls, ...
   RefineOptions refine;     // worst-case refinement after the run (max_moves 0: off)
   // Throws InvalidOption naming the option; option() gives its CLI name.
   void validate() const;

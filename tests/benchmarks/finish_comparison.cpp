@@ -35,7 +35,7 @@ double percent(const SurfaceInput& input, const MedialMesh& medial) {
 void compare(const std::string& model, int spheres) {
   const SurfaceInput input = read_surface(test::shared_data("meshes/" + model + ".off"));
   Options options;
-  options.spheres = spheres;
+  options.run.target.spheres = spheres;
   options.threads = 2;
   const double cli = percent(input, skeletonize(input, options).medial_mesh);
   PreparedShape prepared = prepare_shape(input, options);

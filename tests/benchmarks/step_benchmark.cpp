@@ -53,7 +53,7 @@ vmas::SurfaceInput sampled_cloud(const vmas::SurfaceInput& mesh, int count) {
 // Settled at 200 spheres once, then shared by every benchmark of the same input.
 std::unique_ptr<vmas::Skeletonizer> settled(vmas::SurfaceInput surface) {
   vmas::SkeletonizerOptions options;
-  options.target_spheres = kSpheres;
+  options.target.spheres = kSpheres;
   auto made = std::make_unique<vmas::Skeletonizer>(
       vmas::build_shape(surface, vmas::ShapeOptions{}), options);
   made->run();

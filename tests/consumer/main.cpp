@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
   std::cout << "vmas " << vmas::version() << ": " << cloud.width << " x " << cloud.height
             << " cloud (organised: " << (cloud.isOrganized() ? "yes" : "no") << ")\n";
   vmas::Options options;
-  options.spheres = 40;
+  options.run.target.spheres = 40;
   const vmas::Result result = vmas::skeletonize(cloud, options);
   vmas::write_medial_mesh(argv[2], result.medial_mesh);
   if (result.labels.size() != cloud.size()) return fail("labels.size() != cloud.size()");

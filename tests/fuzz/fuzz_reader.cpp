@@ -59,7 +59,7 @@ void check_medial_mesh(const vmas::MedialMesh& mesh) {
 void skeletonize_bounded(const vmas::SurfaceInput& input) {
   try {
     vmas::Options options;
-    options.spheres = 4;
+    options.run.target.spheres = 4;
     options.threads = 1;  // the machine is shared; results do not depend on it
     options.run.max_iterations = 20;
     const vmas::Result result = vmas::skeletonize(input, options);

@@ -103,7 +103,7 @@ def test_options_are_the_clis_with_its_messages():
         vmas.skeletonize(points, spheres=3, **{"lambda": -1})
     with pytest.raises(ValueError, match="bogus"):
         vmas.skeletonize(points, spheres=3, bogus=1)
-    with pytest.raises(ValueError, match="either --spheres or --error"):
+    with pytest.raises(ValueError, match="error cannot go with spheres"):
         vmas.skeletonize(points, spheres=3, error=0.01)
     with pytest.raises(ValueError, match="denoise"):
         vmas.skeletonize(points, spheres=3, denoise="much")
