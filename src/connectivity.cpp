@@ -1,4 +1,4 @@
-#include "vmas/connectivity.hpp"
+#include "connectivity.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "vmas/partition.hpp"
+#include "partition.hpp"
 
 #include <algorithm>
 #include <cmath>

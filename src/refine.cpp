@@ -9,10 +9,10 @@
 
 #include "eval/envelope.hpp"
 #include "stopwatch.hpp"
-#include "vmas/connectivity.hpp"
+#include "connectivity.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
-#include "vmas/partition.hpp"
+#include "partition.hpp"
 
 namespace vmas {
 

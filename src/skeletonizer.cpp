@@ -7,9 +7,9 @@
 #include <string>
 
 #include "stopwatch.hpp"
-#include "vmas/connectivity.hpp"
+#include "connectivity.hpp"
 #include "vmas/error.hpp"
-#include "vmas/partition.hpp"
+#include "partition.hpp"
 
 namespace vmas {
 

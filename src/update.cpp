@@ -4,7 +4,7 @@
 #include <string>
 
 #include "vmas/error.hpp"
-#include "vmas/partition.hpp"
+#include "partition.hpp"
 
 namespace vmas {
 

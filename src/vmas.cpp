@@ -11,7 +11,7 @@
 #include <string>
 
 #include "stopwatch.hpp"
-#include "vmas/connectivity.hpp"
+#include "connectivity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/normals.hpp"
 

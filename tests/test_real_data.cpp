@@ -8,7 +8,7 @@
 #include <string>
 
 #include "test_shapes.hpp"
-#include "vmas/connectivity.hpp"
+#include "connectivity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/normals.hpp"

@@ -1,0 +1,128 @@
+// Tests of the projection stage (src/projection.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_shapes.hpp"
+#include "vmas/projection.hpp"
+#include "vmas/shape.hpp"
+
+namespace vmas {
+namespace {
+
+TEST(Projection, ShrinkingBallIsEmptyAndTouchesItsPoint) {
+  const Shape shape = build_shape(test::torus(1.0, 0.3, 64, 24), {});
+  ShrinkingBallOptions exact;
+  exact.denoise_angle_deg = 0.0;  // denoising may stop early, leaving a slightly overlapping ball
+  for (const ShrinkingBallOptions& options : {exact, ShrinkingBallOptions{}}) {
+    const MedialProjector projector(shape, options);
+    const double tolerance = options.denoise_angle_deg > 0.0 ? 0.002 : 1e-5 * shape.diagonal;
+    for (int v = 0; v < shape.size(); v += 37) {
+      const Sphere ball = projector.shrink(v, -shape.normals[v]);
+      EXPECT_NEAR((shape.points[v] - ball.center).norm(), ball.radius, 1e-9);
+      for (const Vec3& p : shape.points)
+        EXPECT_GE((p - ball.center).norm(), ball.radius - tolerance);
+      // On a torus the medial axis is the centre circle: radius ≈ tube radius.
+      EXPECT_NEAR(ball.radius, 0.3, 0.01);
+    }
+  }
+}
+
+TEST(Projection, ProjectLandsOnTheMedialAxis) {
+  const Shape shape = build_shape(test::icosphere(Vec3::Zero(), 1.0, 4), {});
+  const MedialProjector projector(shape, {});
+  // A fitted centre near the medial axis (here: the centre) is pulled onto it.
+  const Sphere projected = projector.project(Vec3(0.1, 0.05, -0.05));
+  EXPECT_LT(projected.center.norm(), 0.05);
+  EXPECT_NEAR(projected.radius, 1.0, 0.05);
+}
+
+SurfaceInput cloud_of(const test::Sample& sample) {
+  SurfaceInput cloud;
+  cloud.points = sample.points;
+  cloud.normals = sample.normals;
+  return cloud;
+}
+
+// The same shape with the faces' rules for inside and outside (a mesh has no exterior grid).
+Shape without_exterior_grid(Shape shape) {
+  shape.is_mesh = true;
+  return shape;
+}
+
+TEST(Projection, ACloudsBallsStayInsideWhereItsNormalsAreFlipped) {
+  // Two sampled unit spheres a unit apart, the second with its normals pointing inward (as
+  // estimation leaves whole patches across thin parts). From the second sphere's points facing
+  // the first, the ball along −normal stops on the first sphere: a ball in the gap that the
+  // contact's normal accepts. The exterior grid rejects it.
+  const test::Sample a = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 41);
+  const test::Sample b = test::sample_sphere(Vec3(3.0, 0.0, 0.0), 1.0, 20000, 42);
+  SurfaceInput cloud = cloud_of(a);
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    cloud.points.push_back(b.points[i]);
+    cloud.normals.push_back(-b.normals[i]);
+  }
+  const Shape shape = build_shape(cloud, {});
+  const Shape unguarded = without_exterior_grid(shape);
+  const MedialProjector projector(shape, {}), unguarded_projector(unguarded, {});
+  const auto in_a_sphere = [](const Sphere& ball) {
+    return std::min(ball.center.norm(), (ball.center - Vec3(3.0, 0.0, 0.0)).norm()) <= 1.01;
+  };
+  int facing = 0, outside_unguarded = 0;
+  for (int v = 0; v < shape.size(); ++v) {
+    if (shape.points[v].x() > 2.2) continue;  // the second sphere's side facing the first
+    if (shape.points[v].x() < 1.8) continue;
+    ++facing;
+    EXPECT_TRUE(in_a_sphere(projector.ball_at(v))) << "vertex " << v;
+    if (!in_a_sphere(unguarded_projector.ball_at(v))) ++outside_unguarded;
+  }
+  EXPECT_GT(facing, 300);
+  EXPECT_GT(outside_unguarded, facing / 2);  // what the grid prevents
+}
+
+TEST(Projection, AThinPlateSampledAsACloudKeepsItsBallsInside) {
+  // A plate thinner than its samples' spacing: balls pass between the samples of the far side.
+  // Its samples wall it solid, so the grid keeps every ball's centre in the plate.
+  const test::Sample plate = test::sample_box(Vec3(1.0, 1.0, 0.01), 20000, 43);
+  const Shape shape = build_shape(cloud_of(plate), {});
+  const Shape unguarded_shape = without_exterior_grid(shape);  // the projectors keep a reference
+  const MedialProjector projector(shape, {}), unguarded(unguarded_shape, {});
+  const auto in_plate = [](const Sphere& ball) {
+    return ball.center.z() >= -1e-4 && ball.center.z() <= 0.01 + 1e-4;
+  };
+  int measured = 0, outside_unguarded = 0;
+  for (int v = 0; v < shape.size(); ++v) {
+    const Vec3& p = shape.points[v];
+    if (std::abs(shape.normals[v].z()) < 0.9 || std::min(p.x(), p.y()) < 0.1 ||
+        std::max(p.x(), p.y()) > 0.9)
+      continue;
+    ++measured;
+    EXPECT_TRUE(in_plate(projector.ball_at(v))) << "vertex " << v;
+    if (!in_plate(unguarded.ball_at(v))) ++outside_unguarded;
+  }
+  EXPECT_GT(measured, 1000);
+  EXPECT_GT(outside_unguarded, 0);  // what the grid prevents
+}
+
+TEST(Projection, AnOpenCloudHasNoExteriorGrid) {
+  // A hemisphere: the fill reaches its inside through the open side, so the grid is dropped and
+  // the balls are those of the normals alone.
+  const test::Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 47);
+  SurfaceInput open;
+  for (std::size_t i = 0; i < sphere.points.size(); ++i)
+    if (sphere.points[i].z() > 0.0) {
+      open.points.push_back(sphere.points[i]);
+      open.normals.push_back(sphere.normals[i]);
+    }
+  const Shape shape = build_shape(open, {});
+  const Shape unguarded_shape = without_exterior_grid(shape);  // the projectors keep a reference
+  const MedialProjector projector(shape, {}), unguarded(unguarded_shape, {});
+  for (int v = 0; v < shape.size(); v += 11) {
+    const Sphere ball = projector.ball_at(v);
+    EXPECT_EQ(ball.center, unguarded.ball_at(v).center) << "vertex " << v;
+    EXPECT_EQ(ball.radius, unguarded.ball_at(v).radius) << "vertex " << v;
+  }
+}
+
+}  // namespace
+}  // namespace vmas
