@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
 #include <string>
 
 #include "vmas/error.hpp"
@@ -25,7 +29,85 @@ constexpr auto kMeasureInterval = std::chrono::seconds(2);
 
 }  // namespace
 
-EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads,
+// The session behind EditSession: the worker thread, the queue of edits and the undo history.
+struct EditSession::Impl {
+  Impl(Shape shape, const SkeletonizerOptions& options, int threads, FinishOptions finish);
+  ~Impl();  // stops the worker
+  void remove(std::uint64_t key);
+  void split_at(int vertex);
+  void freeze(std::uint64_t key, bool frozen);
+  void set_target_spheres(int count);
+  void set_lambda(double lambda);
+  void change_target_spheres(int by);
+  void scale_lambda(double factor);
+  void undo();
+  void redo();
+  void pause(bool paused);
+  void finish();
+  EditSnapshot snapshot() const;
+  std::uint64_t wait_for_version(std::uint64_t version, int timeout_ms) const;
+
+  struct Edit {
+    enum class Kind {
+      Remove,
+      Split,
+      Freeze,
+      Target,
+      TargetBy,
+      Lambda,
+      LambdaTimes,
+      Pause,
+      Undo,
+      Redo,
+      Finish
+    } kind;
+    std::uint64_t key = 0;
+    int value = 0;
+    double number = 0.0;
+  };
+
+  void enqueue(const Edit& edit);
+  void check_key(std::uint64_t key) const;  // caller holds mutex_
+  void work();
+  bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
+  bool apply_one(const Edit& edit);  // apply() without the history
+  void apply_target(int count);  // worker thread: the count target, reached at once when fewer
+  void apply_finish();           // worker thread
+  double measure();              // worker thread: the error now, relative to the diagonal
+  // What undo() brings back: the skeleton and the targets of a moment.
+  struct Moment {
+    SkeletonizerState state;
+    Target target;
+    double lambda = 0.0;
+  };
+  Moment moment() const;            // worker thread
+  void go_back_to(const Moment& m);  // worker thread
+  void publish(double steps_per_second);
+
+  std::unique_ptr<Skeletonizer> skeletonizer_;
+  const int threads_;
+  const int most_spheres_;  // max_spheres, or the vertex count if fewer (read by callers)
+  bool paused_ = false;  // worker's copy
+  int iteration_ = 0;
+  std::size_t dropped_ = 0;
+  std::deque<Moment> undo_, redo_;  // worker's: the newest last
+  FinishOptions finish_options_;
+  std::unique_ptr<Evaluator> evaluator_;  // worker's, built by the first finish
+  int finishes_ = 0;                      // worker's
+  bool finished_ = false;
+  double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
+  double measured_error_ = 0.0;
+  int measured_at_iteration_ = -1;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  std::deque<Edit> pending_;
+  EditSnapshot published_;
+  bool stop_ = false;
+  std::thread worker_;
+};
+
+EditSession::Impl::Impl(Shape shape, const SkeletonizerOptions& options, int threads,
                          FinishOptions finish)
     : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)),
       threads_(threads),
@@ -41,7 +123,7 @@ EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int th
   worker_ = std::thread([this] { work(); });
 }
 
-EditSession::~EditSession() {
+EditSession::Impl::~Impl() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
@@ -50,13 +132,13 @@ EditSession::~EditSession() {
   worker_.join();
 }
 
-void EditSession::check_key(std::uint64_t key) const {
+void EditSession::Impl::check_key(std::uint64_t key) const {
   const auto& keys = published_.keys;
   if (std::find(keys.begin(), keys.end(), key) == keys.end())
     throw InvalidArgument("no sphere with key " + std::to_string(key));
 }
 
-void EditSession::enqueue(const Edit& edit) {
+void EditSession::Impl::enqueue(const Edit& edit) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (edit.kind == Edit::Kind::Remove || edit.kind == Edit::Kind::Freeze) check_key(edit.key);
@@ -67,72 +149,72 @@ void EditSession::enqueue(const Edit& edit) {
   changed_.notify_all();
 }
 
-void EditSession::remove(std::uint64_t key) { enqueue({Edit::Kind::Remove, key}); }
+void EditSession::Impl::remove(std::uint64_t key) { enqueue({Edit::Kind::Remove, key}); }
 
-void EditSession::split_at(int vertex) {
-  if (vertex < 0 || vertex >= shape().size())
+void EditSession::Impl::split_at(int vertex) {
+  if (vertex < 0 || vertex >= skeletonizer_->shape().size())
     throw InvalidArgument("no vertex with index " + std::to_string(vertex));
   enqueue({Edit::Kind::Split, 0, vertex});
 }
 
-void EditSession::freeze(std::uint64_t key, bool frozen) {
+void EditSession::Impl::freeze(std::uint64_t key, bool frozen) {
   enqueue({Edit::Kind::Freeze, key, frozen ? 1 : 0});
 }
 
-void EditSession::set_target_spheres(int count) {
+void EditSession::Impl::set_target_spheres(int count) {
   if (count < 1 || count > most_spheres_)
     throw InvalidOption("spheres", "must be between 1 and " + std::to_string(most_spheres_) +
                                        " (got " + std::to_string(count) + ")");
   enqueue({Edit::Kind::Target, 0, count});
 }
 
-void EditSession::set_lambda(double lambda) {
+void EditSession::Impl::set_lambda(double lambda) {
   if (!(lambda >= 0.0 && lambda <= 1e6))
     throw InvalidOption("lambda", "must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
   enqueue({Edit::Kind::Lambda, 0, 0, lambda});
 }
 
-void EditSession::change_target_spheres(int by) { enqueue({Edit::Kind::TargetBy, 0, by}); }
+void EditSession::Impl::change_target_spheres(int by) { enqueue({Edit::Kind::TargetBy, 0, by}); }
 
-void EditSession::scale_lambda(double factor) {
+void EditSession::Impl::scale_lambda(double factor) {
   if (!(factor > 0.0 && factor <= 1e6))
     throw InvalidOption("lambda", "factor must be in (0, 1e6] (got " + std::to_string(factor) + ")");
   enqueue({Edit::Kind::LambdaTimes, 0, 0, factor});
 }
 
-void EditSession::undo() { enqueue({Edit::Kind::Undo}); }
+void EditSession::Impl::undo() { enqueue({Edit::Kind::Undo}); }
 
-void EditSession::redo() { enqueue({Edit::Kind::Redo}); }
+void EditSession::Impl::redo() { enqueue({Edit::Kind::Redo}); }
 
-void EditSession::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
+void EditSession::Impl::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
 
-void EditSession::finish() { enqueue({Edit::Kind::Finish}); }
+void EditSession::Impl::finish() { enqueue({Edit::Kind::Finish}); }
 
-EditSnapshot EditSession::snapshot() const {
+EditSnapshot EditSession::Impl::snapshot() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return published_;
 }
 
-std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_ms) const {
+std::uint64_t EditSession::Impl::wait_for_version(std::uint64_t version, int timeout_ms) const {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
                     [&] { return published_.version > version || stop_; });
   return published_.version;
 }
 
-EditSession::Moment EditSession::moment() const {
+EditSession::Impl::Moment EditSession::Impl::moment() const {
   const Skeletonizer& s = *skeletonizer_;
   return {s.state(), s.options().target, s.options().lambda};
 }
 
-void EditSession::go_back_to(const Moment& m) {
+void EditSession::Impl::go_back_to(const Moment& m) {
   Skeletonizer& s = *skeletonizer_;
   s.restore(m.state);
   s.set_target(m.target);
   s.set_lambda(m.lambda);
 }
 
-bool EditSession::apply(const Edit& edit) {
+bool EditSession::Impl::apply(const Edit& edit) {
   // Undo and redo move between moments; any other edit (but pause) is a moment of its own.
   if (edit.kind == Edit::Kind::Undo || edit.kind == Edit::Kind::Redo) {
     auto& from = edit.kind == Edit::Kind::Undo ? undo_ : redo_;
@@ -154,7 +236,7 @@ bool EditSession::apply(const Edit& edit) {
   return true;
 }
 
-bool EditSession::apply_one(const Edit& edit) {
+bool EditSession::Impl::apply_one(const Edit& edit) {
   Skeletonizer& s = *skeletonizer_;
   const auto count = [&] { return static_cast<int>(s.spheres().size()); };
   switch (edit.kind) {
@@ -205,7 +287,7 @@ bool EditSession::apply_one(const Edit& edit) {
   return true;
 }
 
-void EditSession::apply_target(int target) {
+void EditSession::Impl::apply_target(int target) {
   Skeletonizer& s = *skeletonizer_;
   s.set_target(Target{target});
   // Fewer spheres at once: the smallest unfrozen clusters go (they cover the least).
@@ -221,14 +303,14 @@ void EditSession::apply_target(int target) {
   }
 }
 
-double EditSession::measure() {
+double EditSession::Impl::measure() {
   const Skeletonizer& s = *skeletonizer_;
   if (!evaluator_)  // a tree over the surface: built once, by the first measurement
     evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
   return (*evaluator_)(s.medial_mesh()).hausdorff / s.shape().diagonal;
 }
 
-void EditSession::apply_finish() {
+void EditSession::Impl::apply_finish() {
   Skeletonizer& s = *skeletonizer_;
   const SkeletonizerState start = s.state();
   error_before_finish_ = measure();
@@ -250,7 +332,7 @@ void EditSession::apply_finish() {
   measured_at_iteration_ = iteration_;
 }
 
-void EditSession::publish(double steps_per_second) {
+void EditSession::Impl::publish(double steps_per_second) {
   const Skeletonizer& s = *skeletonizer_;
   EditSnapshot next;
   next.iteration = iteration_;
@@ -282,7 +364,7 @@ void EditSession::publish(double steps_per_second) {
   changed_.notify_all();
 }
 
-void EditSession::work() {
+void EditSession::Impl::work() {
 #ifdef _OPENMP
   if (threads_ > 0) omp_set_num_threads(threads_);  // per thread: this one runs every step
 #endif
@@ -334,6 +416,27 @@ void EditSession::work() {
       changed_.wait_for(lock, kSettledStepPause, [&] { return stop_ || !pending_.empty(); });
     }
   }
+}
+
+EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads,
+                         FinishOptions finish)
+    : impl_(std::make_unique<Impl>(std::move(shape), options, threads, std::move(finish))) {}
+EditSession::~EditSession() = default;
+void EditSession::remove(std::uint64_t key) { impl_->remove(key); }
+void EditSession::split_at(int vertex) { impl_->split_at(vertex); }
+void EditSession::freeze(std::uint64_t key, bool frozen) { impl_->freeze(key, frozen); }
+void EditSession::set_target_spheres(int count) { impl_->set_target_spheres(count); }
+void EditSession::set_lambda(double lambda) { impl_->set_lambda(lambda); }
+void EditSession::change_target_spheres(int by) { impl_->change_target_spheres(by); }
+void EditSession::scale_lambda(double factor) { impl_->scale_lambda(factor); }
+void EditSession::undo() { impl_->undo(); }
+void EditSession::redo() { impl_->redo(); }
+void EditSession::pause(bool paused) { impl_->pause(paused); }
+void EditSession::finish() { impl_->finish(); }
+EditSnapshot EditSession::snapshot() const { return impl_->snapshot(); }
+const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
+std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_ms) const {
+  return impl_->wait_for_version(version, timeout_ms);
 }
 
 }  // namespace vmas

@@ -9,12 +9,8 @@
 // sphere the user pointed at, or nothing. The worker follows the run schedule of
 // Skeletonizer::run (Skeletonizer::advance), restarted by every edit, and goes on after it is
 // done, more slowly, so that edits re-settle the skeleton.
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 #include "vmas/refine.hpp"
@@ -100,70 +96,14 @@ class EditSession {
   void finish();
 
   EditSnapshot snapshot() const;
-  const Shape& shape() const { return skeletonizer_->shape(); }
+  const Shape& shape() const;
   // Waits until a snapshot newer than `version` is published, or `timeout_ms` passes; returns
   // the latest snapshot's version.
   std::uint64_t wait_for_version(std::uint64_t version, int timeout_ms) const;
 
  private:
-  struct Edit {
-    enum class Kind {
-      Remove,
-      Split,
-      Freeze,
-      Target,
-      TargetBy,
-      Lambda,
-      LambdaTimes,
-      Pause,
-      Undo,
-      Redo,
-      Finish
-    } kind;
-    std::uint64_t key = 0;
-    int value = 0;
-    double number = 0.0;
-  };
-
-  void enqueue(const Edit& edit);
-  void check_key(std::uint64_t key) const;  // caller holds mutex_
-  void work();
-  bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
-  bool apply_one(const Edit& edit);  // apply() without the history
-  void apply_target(int count);  // worker thread: the count target, reached at once when fewer
-  void apply_finish();           // worker thread
-  double measure();              // worker thread: the error now, relative to the diagonal
-  // What undo() brings back: the skeleton and the targets of a moment.
-  struct Moment {
-    SkeletonizerState state;
-    Target target;
-    double lambda = 0.0;
-  };
-  Moment moment() const;            // worker thread
-  void go_back_to(const Moment& m);  // worker thread
-  void publish(double steps_per_second);
-
-  std::unique_ptr<Skeletonizer> skeletonizer_;
-  const int threads_;
-  const int most_spheres_;  // max_spheres, or the vertex count if fewer (read by callers)
-  bool paused_ = false;  // worker's copy
-  int iteration_ = 0;
-  std::size_t dropped_ = 0;
-  std::deque<Moment> undo_, redo_;  // worker's: the newest last
-  FinishOptions finish_options_;
-  std::unique_ptr<Evaluator> evaluator_;  // worker's, built by the first finish
-  int finishes_ = 0;                      // worker's
-  bool finished_ = false;
-  double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
-  double measured_error_ = 0.0;
-  int measured_at_iteration_ = -1;
-
-  mutable std::mutex mutex_;
-  mutable std::condition_variable changed_;
-  std::deque<Edit> pending_;
-  EditSnapshot published_;
-  bool stop_ = false;
-  std::thread worker_;
+  struct Impl;  // the worker thread, the edit queue, the undo history
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace vmas
