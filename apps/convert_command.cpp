@@ -8,7 +8,7 @@
 #include "commands.hpp"
 #include "standard_streams.hpp"
 #include "vmas/io.hpp"
-#include "vmas/normals.hpp"
+#include "vmas/prepare.hpp"
 
 namespace po = boost::program_options;
 
@@ -86,7 +86,7 @@ int convert_command(int argc, const char* const* argv) {
     with_input_file(input, input_format,
                     [&](const std::string& path) { shape = read_surface(path, &report); });
     // Points the file gave no valid normal keep their place: written with an estimated one.
-    if (report.missing_normals > 0) fill_missing_normals(shape.points, shape.normals, {});
+    if (report.missing_normals > 0) fill_missing_normals(shape.points, shape.normals, NormalOptions{}.k);
     bytes = surface_file(target, shape);
     summary = std::to_string(shape.points.size()) + " points" +
               (shape.is_mesh() ? ", " + std::to_string(shape.faces.size()) + " faces" : "") +

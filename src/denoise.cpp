@@ -1,4 +1,4 @@
-#include "vmas/denoise.hpp"
+#include "denoise.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "vmas/holes.hpp"
+#include "holes.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

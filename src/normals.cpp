@@ -1,4 +1,4 @@
-#include "vmas/normals.hpp"
+#include "normals.hpp"
 
 #include <pcl/features/normal_3d.h>
 #include <pcl/point_cloud.h>
@@ -12,9 +12,10 @@
 #include <tuple>
 
 #include "disjoint_sets.hpp"
-#include "sphere_lattice.hpp"
 #include "principal_axes.hpp"
+#include "sphere_lattice.hpp"
 #include "vmas/error.hpp"
+#include "vmas/io.hpp"
 #include "vmas/kdtree.hpp"
 
 namespace vmas {
@@ -344,8 +345,8 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
   return normals;
 }
 
-void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
-                          const NormalOptions& options) {
+void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
+  const NormalOptions options{k};
   options.validate();
   const auto missing = [&](std::size_t i) {
     return !normals[i].allFinite() || !(normals[i].squaredNorm() > 0.0);

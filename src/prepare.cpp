@@ -6,9 +6,14 @@
 #include <numeric>
 #include <string>
 
+#include "denoise.hpp"
+#include "holes.hpp"
+#include "normals.hpp"
 #include "principal_axes.hpp"
 #include "stopwatch.hpp"
+#include "subsample.hpp"
 #include "vmas/error.hpp"
+#include "vmas/io.hpp"
 
 namespace vmas {
 
@@ -218,7 +223,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
       surface.normals = estimate_normals(surface.points, options.normals);
       report.normals_estimated = true;
     } else {
-      fill_missing_normals(surface.points, surface.normals, options.normals);
+      fill_missing_normals(surface.points, surface.normals, options.normals.k);
       if (options.orient_normals) {
         orient_normals(surface.points, surface.normals, options.normals.k);
         report.normals_oriented = true;

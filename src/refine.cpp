@@ -7,12 +7,12 @@
 #include <string>
 #include <utility>
 
-#include "eval/envelope.hpp"
-#include "stopwatch.hpp"
 #include "connectivity.hpp"
+#include "eval/envelope.hpp"
+#include "partition.hpp"
+#include "stopwatch.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
-#include "partition.hpp"
 
 namespace vmas {
 

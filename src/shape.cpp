@@ -10,9 +10,9 @@
 #include <utility>
 
 #include "disjoint_sets.hpp"
+#include "subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
-#include "vmas/subsample.hpp"
 
 namespace vmas {
 

@@ -6,10 +6,12 @@
 #include <limits>
 #include <string>
 
-#include "stopwatch.hpp"
 #include "connectivity.hpp"
-#include "vmas/error.hpp"
 #include "partition.hpp"
+#include "split.hpp"
+#include "stopwatch.hpp"
+#include "update.hpp"
+#include "vmas/error.hpp"
 
 namespace vmas {
 

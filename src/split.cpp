@@ -1,4 +1,4 @@
-#include "vmas/split.hpp"
+#include "split.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "vmas/subsample.hpp"
+#include "subsample.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
-#include "vmas/update.hpp"
+#include "update.hpp"
 
 #include <Eigen/Dense>
 #include <string>
 
-#include "vmas/error.hpp"
 #include "partition.hpp"
+#include "vmas/error.hpp"
 
 namespace vmas {
 

@@ -10,10 +10,10 @@
 #include <utility>
 #include <string>
 
-#include "stopwatch.hpp"
 #include "connectivity.hpp"
+#include "normals.hpp"
+#include "stopwatch.hpp"
 #include "vmas/eval.hpp"
-#include "vmas/normals.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -3,8 +3,8 @@
 
 #include <set>
 
-#include "test_shapes.hpp"
 #include "connectivity.hpp"
+#include "test_shapes.hpp"
 #include "vmas/shape.hpp"
 
 namespace vmas {

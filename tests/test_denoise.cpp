@@ -5,12 +5,12 @@
 #include <cmath>
 #include <random>
 
+#include "denoise.hpp"
 #include "test_shapes.hpp"
-#include "vmas/denoise.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"
-#include "vmas/vmas.hpp"
 #include "vmas/skeletonizer.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {

@@ -14,10 +14,10 @@
 #include <string>
 #include <utility>
 
+#include "eval/envelope.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "eval/envelope.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 

@@ -1,8 +1,8 @@
 // Holes of sampled surfaces (find_holes) on shapes built in code, fixed seeds.
 #include <gtest/gtest.h>
 
+#include "holes.hpp"
 #include "test_shapes.hpp"
-#include "vmas/holes.hpp"
 
 namespace vmas {
 namespace {

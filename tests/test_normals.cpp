@@ -5,12 +5,12 @@
 #include <functional>
 #include <random>
 
+#include "normals.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 #include "vmas/kdtree.hpp"
-#include "vmas/normals.hpp"
 
 namespace vmas {
 namespace {
@@ -244,7 +244,7 @@ TEST(FillMissingNormals, EstimatesOnlyTheMissingOnesWithTheirNeighboursSign) {
   std::vector<Vec3> normals = sphere.normals;
   for (std::size_t i = 0; i < normals.size(); i += 7)
     normals[i] = i % 2 ? Vec3::Zero() : Vec3::Constant(std::nan(""));
-  fill_missing_normals(sphere.points, normals, NormalOptions{});
+  fill_missing_normals(sphere.points, normals, NormalOptions{}.k);
   for (std::size_t i = 0; i < normals.size(); ++i) {
     if (i % 7 != 0) {
       EXPECT_EQ(normals[i], sphere.normals[i]);

@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "test_shapes.hpp"
 #include "partition.hpp"
+#include "test_shapes.hpp"
 #include "vmas/shape.hpp"
 
 namespace vmas {

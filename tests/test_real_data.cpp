@@ -7,12 +7,12 @@
 #include <random>
 #include <string>
 
-#include "test_shapes.hpp"
 #include "connectivity.hpp"
+#include "normals.hpp"
+#include "shared_data.hpp"
+#include "test_shapes.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
-#include "vmas/normals.hpp"
-#include "shared_data.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "test_shapes.hpp"
 #include "connectivity.hpp"
+#include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/shape.hpp"
 

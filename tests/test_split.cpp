@@ -1,8 +1,8 @@
 // Tests of the split stage (src/split.cpp).
 #include <gtest/gtest.h>
 
+#include "split.hpp"
 #include "test_shapes.hpp"
-#include "vmas/split.hpp"
 
 namespace vmas {
 namespace {

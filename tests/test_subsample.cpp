@@ -4,9 +4,9 @@
 #include <cmath>
 #include <set>
 
+#include "subsample.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/subsample.hpp"
 
 namespace vmas {
 namespace {

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
-#include "test_shapes.hpp"
 #include "partition.hpp"
+#include "test_shapes.hpp"
+#include "update.hpp"
 #include "vmas/shape.hpp"
-#include "vmas/update.hpp"
 
 namespace vmas {
 namespace {

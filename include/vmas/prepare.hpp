@@ -4,16 +4,43 @@
 // repeat; the CLI is one caller.
 #include <vector>
 
-#include "vmas/denoise.hpp"
-#include "vmas/holes.hpp"
-#include "vmas/normals.hpp"
 #include "vmas/projection.hpp"
-#include "vmas/subsample.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
 
-// Clouds with more points are thinned to about this many (coarse-to-fine, see subsample.hpp).
+// Scan noise as estimate_noise (src/denoise.hpp) reads it.
+struct NoiseEstimate {
+  double sigma = 0.0;    // standard deviation of the positions across the surface (absolute)
+  double spacing = 0.0;  // median distance from a point to its nearest neighbour (absolute)
+  int neighbours = 0;    // neighbourhood size (k) the estimate was read at
+};
+
+// Outlier removal and smoothing (src/denoise.hpp).
+struct DenoiseOptions {
+  // Noise at or below this fraction of the spacing is left alone: clean samples, meshes whose
+  // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls
+  // (smoothing them would blur what matters more, such as registration seams).
+  double clean_fraction_of_spacing = 0.35;
+  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
+  int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
+  double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
+  void validate() const;              // throws InvalidOption
+};
+
+// Normal estimation and orientation of clouds (src/normals.hpp).
+struct NormalOptions {
+  int k = 16;             // neighbours used for the PCA plane fit and for the orientation graph
+  void validate() const;  // throws InvalidOption
+};
+
+// A hole of a cloud: a rim where the sampling stops (src/holes.hpp).
+struct Hole {
+  int rim_points = 0;  // points found on its rim
+  double width = 0.0;  // diagonal of the rim's bounding box (absolute)
+};
+
+// Clouds with more points are thinned to about this many (coarse-to-fine, src/subsample.hpp).
 constexpr int kDefaultMaxPoints = 100000;
 
 struct PrepareOptions {

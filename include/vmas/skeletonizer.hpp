@@ -12,8 +12,6 @@
 
 #include "vmas/projection.hpp"
 #include "vmas/shape.hpp"
-#include "vmas/split.hpp"
-#include "vmas/update.hpp"
 
 namespace vmas {
 
@@ -29,6 +27,19 @@ struct Target {
   // The count aimed at: `spheres`, 0 when the threshold decides, kDefaultSpheres when neither
   // is given.
   int count() const { return spheres > 0 ? spheres : error > 0.0 ? 0 : kDefaultSpheres; }
+};
+
+struct UpdateOptions {
+  int max_iterations = 10;       // Gauss–Newton steps per update
+  double step_tolerance = 1e-6;  // stop when the step is shorter (relative to the diagonal)
+  void validate() const;         // throws InvalidOption
+};
+
+struct SplitOptions {
+  double max_fraction = 0.2;  // at most this fraction of the current sphere count per round
+  int max_per_round = 10;     // and at most this many (sphere-count targets only) ...
+  int large_count_share = 20;  // ... or 1/this of the current count when that is more
+  void validate() const;      // throws InvalidOption
 };
 
 struct SkeletonizerOptions {

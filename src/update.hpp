@@ -5,15 +5,9 @@
 // per step. A step that would raise F is halved until it does not, so F never increases.
 #include <vector>
 
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
-
-struct UpdateOptions {
-  int max_iterations = 10;       // Gauss–Newton steps per update
-  double step_tolerance = 1e-6;  // stop when the step is shorter (relative to the diagonal)
-  void validate() const;         // throws InvalidOption
-};
 
 // F(s) for the cluster `members`.
 double cluster_energy(const Shape& shape, const std::vector<int>& members, const Sphere& sphere,

@@ -3,14 +3,9 @@
 // occlusion, a cut), the points of the rim see all their neighbours on one side.
 #include <vector>
 
-#include "vmas/types.hpp"
+#include "vmas/prepare.hpp"
 
 namespace vmas {
-
-struct Hole {
-  int rim_points = 0;  // points found on its rim
-  double width = 0.0;  // diagonal of the rim's bounding box (absolute)
-};
 
 // The holes of a cloud with oriented normals, widest first. A point is on a rim when, seen
 // along its normal, the directions to its 16 nearest neighbours leave a gap wider than 150°,

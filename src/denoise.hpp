@@ -6,15 +6,9 @@
 #include <array>
 #include <vector>
 
-#include "vmas/types.hpp"
+#include "vmas/prepare.hpp"
 
 namespace vmas {
-
-struct NoiseEstimate {
-  double sigma = 0.0;    // standard deviation of the positions across the surface (absolute)
-  double spacing = 0.0;  // median distance from a point to its nearest neighbour (absolute)
-  int neighbours = 0;    // neighbourhood size (k) the estimate was read at
-};
 
 // Fits a quadric height field to the k nearest neighbours of evenly spread points (within an even
 // subset of 10 000 points) and takes the median RMS residual, at the smallest k in 16, 32, ...
@@ -23,17 +17,6 @@ struct NoiseEstimate {
 // fraction of the spacing; sharp edges touch too few points to move the median. Deterministic.
 // Throws InvalidInput for fewer than 16 points.
 NoiseEstimate estimate_noise(const std::vector<Vec3>& points);
-
-struct DenoiseOptions {
-  // Noise at or below this fraction of the spacing is left alone: clean samples, meshes whose
-  // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls
-  // (smoothing them would blur what matters more, such as registration seams).
-  double clean_fraction_of_spacing = 0.35;
-  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
-  int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
-  double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
-  void validate() const;              // throws InvalidOption
-};
 
 // True when `noise` calls for smoothing under `options`.
 bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options);

@@ -4,14 +4,9 @@
 // global check that the normals point away from the inside).
 #include <vector>
 
-#include "vmas/types.hpp"
+#include "vmas/prepare.hpp"
 
 namespace vmas {
-
-struct NormalOptions {
-  int k = 16;             // neighbours used for the PCA plane fit and for the orientation graph
-  void validate() const;  // throws InvalidOption
-};
 
 // Unit normals, one per point, from a plane fit to each point and its k nearest neighbours, then
 // oriented as by orient_normals. Throws InvalidOption for a bad k and InvalidInput for fewer than
@@ -23,13 +18,6 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
 // points outward. Also normalises them and replaces NaN or zero ones by finite ones. Throws
 // InvalidOption for a bad k and InvalidInput when the two sizes differ.
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
-
-// Gives every point whose normal is missing (NaN or zero: a file that has normals for some
-// points only) the normal of the plane through its k nearest neighbours, with the sign its
-// neighbours' given normals agree on; given normals are left as they are. Throws InvalidInput
-// for fewer than k + 1 points when a normal is missing.
-void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
-                          const NormalOptions& options);
 
 // How much unit normals point away from the points' centroid: Σ (p − c)·n / Σ |p − c| over the
 // points listed in `subset` (all when empty), in [−1, 1]. Near 1 for a roundish closed surface
