@@ -114,6 +114,130 @@ void PrepareOptions::validate() const {
   noise.validate();
 }
 
+namespace {
+
+// Every later stage costs at least linear time in the points; a big cloud's detail below a few
+// hundred points per sphere changes nothing but the time.
+void thin_big_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget) {
+  if (surface.is_mesh() || budget == 0 || surface.points.size() <= budget) return;
+  const Subsample thin = subsample(surface.points, budget);
+  report.thinned_from = surface.points.size();
+  report.voxel = thin.leaf;
+  report.kept = thin.kept;
+  report.stand_in = thin.representative;
+  keep_only(surface.points, thin.kept);
+  keep_only(surface.normals, thin.kept);
+}
+
+// Stray points far from the surface (scanner artefacts, registration leftovers) would each stop
+// shrinking balls and pull clusters; a mesh's vertices are never strays. Returns whether the
+// noise was measured on the way (report.noise).
+bool drop_outliers(SurfaceInput& surface, PrepareReport& report, const PrepareOptions& options) {
+  if (surface.is_mesh() || options.denoise == PrepareOptions::Denoise::Off ||
+      !options.remove_outliers)
+    return false;
+  bool noise_measured = false;
+  std::vector<int> inliers = inlier_indices(surface.points, options.noise);
+  // The strays go with the tails of a scan's noise, which its smoothing is better without
+  // (bear, dove, chair at σ = 0.5-1 %: ε 0.3-13 points lower); a clean sampling keeps its
+  // sparse parts. The noise is measured without the strays either way.
+  if (options.denoise == PrepareOptions::Denoise::Auto && inliers.size() >= kMinPointsForNoise) {
+    std::vector<Vec3> strict;
+    strict.reserve(inliers.size());
+    for (int i : inliers) strict.push_back(surface.points[i]);
+    report.noise = estimate_noise(strict);
+    noise_measured = true;
+    if (!is_noisy(report.noise, options.noise))
+      inliers = with_sparse_parts(surface.points, inliers, options.noise);
+  }
+  report.outliers = surface.points.size() - inliers.size();
+  std::vector<int> position(surface.points.size(), -1);
+  for (std::size_t j = 0; j < inliers.size(); ++j) position[inliers[j]] = static_cast<int>(j);
+  for (int& p : report.stand_in)
+    if (p >= 0) p = position[p];
+  keep_only(report.kept, inliers);
+  keep_only(surface.points, inliers);
+  keep_only(surface.normals, inliers);
+  return noise_measured;
+}
+
+// Whether the points call for smoothing: the noise measured (unless already) or given.
+bool is_noisy_input(const SurfaceInput& surface, PrepareReport& report,
+                    const PrepareOptions& options, bool noise_measured) {
+  if (options.denoise == PrepareOptions::Denoise::Auto &&
+      surface.points.size() >= kMinPointsForNoise) {
+    if (!noise_measured) report.noise = estimate_noise(surface.points);
+    return is_noisy(report.noise, options.noise);
+  }
+  if (options.denoise == PrepareOptions::Denoise::Fixed) {
+    if (surface.points.size() >= kMinPointsForNoise)
+      report.noise.spacing = estimate_noise(surface.points).spacing;
+    report.noise.sigma = options.noise_sigma * report.diagonal;
+    return report.noise.sigma > 0.0;
+  }
+  return false;
+}
+
+// A noisy mesh stays a mesh: its faces say what the surface connects, whatever the vertices'
+// noise (and a closed one stays closed).
+void smooth_noisy_mesh(SurfaceInput& surface, PrepareReport& report,
+                       const PrepareOptions& options) {
+  report.mesh_smoothing_steps = kMeshSmoothingSteps;
+  const double moved = smooth_mesh(surface.points, surface.faces, report.mesh_smoothing_steps);
+  // Local fits read strong noise low; the smoothing's displacement does not.
+  if (options.denoise == PrepareOptions::Denoise::Auto)
+    report.noise.sigma = std::max(report.noise.sigma, moved);
+  report.residual_noise = estimate_noise(surface.points).sigma;
+}
+
+// MLS smoothing of a noisy cloud; returns the smoothed surface's (unoriented) normals.
+std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& report,
+                                     const PrepareOptions& options) {
+  // The support must hold enough samples for a quadric fit even when the noise is far below
+  // the spacing.
+  const auto radius_for = [&](double sigma) {
+    return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
+  };
+  // Local fits read strong noise low (their neighbourhoods hardly reach past it); the distances
+  // to the smoothed surface do not. When they say more, smoothing is at their scale.
+  if (options.denoise == PrepareOptions::Denoise::Auto) {
+    // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
+    const double sigma =
+        std::min(mls_deviation(surface.points, radius_for(report.noise.sigma), kDeviationSamples),
+                 kMaxReestimate * report.noise.sigma);
+    if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
+  }
+  report.mls_radius = radius_for(report.noise.sigma);
+  std::vector<Vec3> normals = smooth_mls(surface.points, report.mls_radius);
+  report.residual_noise = estimate_noise(surface.points).sigma;
+  return normals;
+}
+
+// A cloud's normals: the smoothed surface's when it was smoothed, estimated when the file has
+// none (or they are not wanted), else the file's, completed and, when asked, re-oriented.
+void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOptions& options,
+                   std::vector<Vec3> smoothed_normals) {
+  const bool estimate = !surface.has_normals() || options.estimate_normals;
+  if (!smoothed_normals.empty() && estimate) {
+    // The MLS normals are those of the smoothed surface at the noise's scale: better than a
+    // fresh fit to a few neighbours; only their signs are missing.
+    surface.normals = std::move(smoothed_normals);
+    orient_normals(surface.points, surface.normals, options.normals.k);
+    report.normals_estimated = true;
+  } else if (estimate) {
+    surface.normals = estimate_normals(surface.points, options.normals);
+    report.normals_estimated = true;
+  } else {
+    fill_missing_normals(surface.points, surface.normals, options.normals.k);
+    if (options.orient_normals) {
+      orient_normals(surface.points, surface.normals, options.normals.k);
+      report.normals_oriented = true;
+    }
+  }
+}
+
+}  // namespace
+
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options) {
   options.validate();
   const auto start = std::chrono::steady_clock::now();
@@ -124,114 +248,24 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   report.frame = working_frame(surface.points);
   for (Vec3& p : surface.points) p = report.frame.to_working(p);
   for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
-  const bool cloud = !surface.is_mesh();
-  const bool denoise = options.denoise != PrepareOptions::Denoise::Off;
 
-  // Every later stage costs at least linear time in the points; a big cloud's detail below a
-  // few hundred points per sphere changes nothing but the time.
-  const auto budget = static_cast<std::size_t>(options.max_points);
-  if (cloud && budget > 0 && surface.points.size() > budget) {
-    const Subsample thin = subsample(surface.points, budget);
-    report.thinned_from = surface.points.size();
-    report.voxel = thin.leaf;
-    report.kept = thin.kept;
-    report.stand_in = thin.representative;
-    keep_only(surface.points, thin.kept);
-    keep_only(surface.normals, thin.kept);
-  }
-  // Stray points far from the surface (scanner artefacts, registration leftovers) would each
-  // stop shrinking balls and pull clusters; a mesh's vertices are never strays.
-  bool noise_measured = false;
-  if (cloud && denoise && options.remove_outliers) {
-    std::vector<int> inliers = inlier_indices(surface.points, options.noise);
-    // The strays go with the tails of a scan's noise, which its smoothing is better without
-    // (bear, dove, chair at σ = 0.5-1 %: ε 0.3-13 points lower); a clean sampling keeps its
-    // sparse parts. The noise is measured without the strays either way.
-    if (options.denoise == PrepareOptions::Denoise::Auto && inliers.size() >= kMinPointsForNoise) {
-      std::vector<Vec3> strict;
-      strict.reserve(inliers.size());
-      for (int i : inliers) strict.push_back(surface.points[i]);
-      report.noise = estimate_noise(strict);
-      noise_measured = true;
-      if (!is_noisy(report.noise, options.noise))
-        inliers = with_sparse_parts(surface.points, inliers, options.noise);
-    }
-    report.outliers = surface.points.size() - inliers.size();
-    std::vector<int> position(surface.points.size(), -1);
-    for (std::size_t j = 0; j < inliers.size(); ++j) position[inliers[j]] = static_cast<int>(j);
-    for (int& p : report.stand_in)
-      if (p >= 0) p = position[p];
-    keep_only(report.kept, inliers);
-    keep_only(surface.points, inliers);
-    keep_only(surface.normals, inliers);
-  }
+  thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points));
+  const bool noise_measured = drop_outliers(surface, report, options);
   report.diagonal = diagonal_of(bounding_box(surface.points));
-
-  bool noisy = false;
-  if (options.denoise == PrepareOptions::Denoise::Auto &&
-      surface.points.size() >= kMinPointsForNoise) {
-    if (!noise_measured) report.noise = estimate_noise(surface.points);
-    noisy = is_noisy(report.noise, options.noise);
-  } else if (options.denoise == PrepareOptions::Denoise::Fixed) {
-    if (surface.points.size() >= kMinPointsForNoise)
-      report.noise.spacing = estimate_noise(surface.points).spacing;
-    report.noise.sigma = options.noise_sigma * report.diagonal;
-    noisy = report.noise.sigma > 0.0;
-  }
-
+  const bool noisy = is_noisy_input(surface, report, options, noise_measured);
   std::vector<Vec3> smoothed_normals;
-  if (noisy && !cloud) {
-    // A noisy mesh stays a mesh: its faces say what the surface connects, whatever the
-    // vertices' noise (and a closed one stays closed).
-    report.mesh_smoothing_steps = kMeshSmoothingSteps;
-    const double moved = smooth_mesh(surface.points, surface.faces, report.mesh_smoothing_steps);
-    // Local fits read strong noise low; the smoothing's displacement does not.
-    if (options.denoise == PrepareOptions::Denoise::Auto)
-      report.noise.sigma = std::max(report.noise.sigma, moved);
-    report.residual_noise = estimate_noise(surface.points).sigma;
-  } else if (noisy) {
-    // The support must hold enough samples for a quadric fit even when the noise is far below
-    // the spacing.
-    const auto radius_for = [&](double sigma) {
-      return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
-    };
-    // Local fits read strong noise low (their neighbourhoods hardly reach past it); the distances
-    // to the smoothed surface do not. When they say more, smoothing is at their scale.
-    if (options.denoise == PrepareOptions::Denoise::Auto) {
-      // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
-      const double sigma =
-          std::min(mls_deviation(surface.points, radius_for(report.noise.sigma), kDeviationSamples),
-                   kMaxReestimate * report.noise.sigma);
-      if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
-    }
-    report.mls_radius = radius_for(report.noise.sigma);
-    smoothed_normals = smooth_mls(surface.points, report.mls_radius);
-    report.residual_noise = estimate_noise(surface.points).sigma;
-  } else {
+  if (!noisy)
     report.residual_noise = report.noise.sigma;
-  }
-
-  // A mesh's normals, areas and quadrics come from its faces.
+  else if (surface.is_mesh())
+    smooth_noisy_mesh(surface, report, options);
+  else
+    smoothed_normals = smooth_noisy_cloud(surface, report, options);
+  // A mesh's normals, areas and quadrics come from its faces, its holes are its boundary edges
+  // (MeshDefects).
   if (!surface.is_mesh()) {
-    if (noisy && (!surface.has_normals() || options.estimate_normals)) {
-      // The MLS normals are those of the smoothed surface at the noise's scale: better than a
-      // fresh fit to a few neighbours; only their signs are missing.
-      surface.normals = std::move(smoothed_normals);
-      orient_normals(surface.points, surface.normals, options.normals.k);
-      report.normals_estimated = true;
-    } else if (!surface.has_normals() || options.estimate_normals) {
-      surface.normals = estimate_normals(surface.points, options.normals);
-      report.normals_estimated = true;
-    } else {
-      fill_missing_normals(surface.points, surface.normals, options.normals.k);
-      if (options.orient_normals) {
-        orient_normals(surface.points, surface.normals, options.normals.k);
-        report.normals_oriented = true;
-      }
-    }
+    cloud_normals(surface, report, options, std::move(smoothed_normals));
+    report.holes = find_holes(surface.points, surface.normals);
   }
-  // A mesh's holes are its boundary edges (MeshDefects).
-  if (!surface.is_mesh()) report.holes = find_holes(surface.points, surface.normals);
   report.seconds = internal::seconds_since(start);
   return report;
 }
