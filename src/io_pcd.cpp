@@ -46,17 +46,24 @@ bool pcd_scalar(char type, std::size_t size, ScalarType& scalar) {
   return false;
 }
 
-}  // namespace
-
-SurfaceInput read_pcd(const std::string& path) {
-  const std::string bytes = read_file(path, ".pcd");
-  LineTokenizer lines(path, bytes);
-  std::vector<std::string_view> tokens;
+// What a PCD header says: the fields and their layout in a point, the point count and the
+// encoding of the data.
+struct PcdHeader {
   std::vector<PcdField> fields;
+  std::size_t points = 0;
+  std::string_view data;  // ascii, binary or binary_compressed
+  std::size_t point_step = 0, values_per_point = 0, packed_step = 0;
+};
+
+// The header's lines up to DATA, every keyword checked against the others.
+PcdHeader read_pcd_header(const std::string& path, LineTokenizer& lines) {
+  PcdHeader header;
+  std::vector<PcdField>& fields = header.fields;
+  std::string_view& data = header.data;
+  std::vector<std::string_view> tokens;
   bool has_fields = false, has_size = false, has_type = false;
   std::size_t width = 0, height = 0, points = 0;
   bool has_width = false, has_height = false, has_points = false;
-  std::string_view data;
   while (data.empty()) {
     if (!lines.next(tokens)) fail(path, "bad PCD header: no DATA line");
     const std::string_view keyword = tokens[0];
@@ -123,8 +130,17 @@ SurfaceInput read_pcd(const std::string& path) {
     fail(path, "bad PCD header: WIDTH " + std::to_string(width) + " x HEIGHT " +
                    std::to_string(height) + " is not POINTS " + std::to_string(points));
 
-  std::size_t point_step = 0, values_per_point = 0, packed_step = 0;
-  for (PcdField& field : fields) {
+  header.points = points;
+  return header;
+}
+
+// Offsets of the fields in a point (binary), in a line (ascii) and the packed size of a point
+// (binary_compressed leaves "_" padding out).
+void lay_out(const std::string& path, PcdHeader& header) {
+  std::size_t& point_step = header.point_step;
+  std::size_t& values_per_point = header.values_per_point;
+  std::size_t& packed_step = header.packed_step;
+  for (PcdField& field : header.fields) {
     if (!pcd_scalar(field.type, field.size, field.scalar))
       fail(path, "bad PCD header: field '" + std::string(field.name) + "' has unsupported TYPE " +
                      quote(std::string(1, field.type)) + " with SIZE " +
@@ -138,70 +154,95 @@ SurfaceInput read_pcd(const std::string& path) {
       fail(path,
            "bad PCD header: points of more than " + std::to_string(kPcdMaxPointBytes) + " bytes");
   }
+}
+
+// The x, y, z fields and, when all three are there, normal_x, normal_y, normal_z.
+struct PcdColumns {
+  const PcdField* fields[6] = {};
+  int wanted = 3;  // 6 with normals
+};
+
+PcdColumns pcd_columns(const std::string& path, const std::vector<PcdField>& fields) {
+  PcdColumns columns;
   const auto find = [&](std::string_view name) -> const PcdField* {
     for (const PcdField& field : fields)
       if (field.name == name) return &field;
     return nullptr;
   };
-  const PcdField* columns[6];
   const char* const kNames[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-  for (int c = 0; c < 6; ++c) columns[c] = find(kNames[c]);
-  if (!columns[0] || !columns[1] || !columns[2]) fail(path, "PCD file has no x, y, z fields");
-  const int wanted = columns[3] && columns[4] && columns[5] ? 6 : 3;
+  for (int c = 0; c < 6; ++c) columns.fields[c] = find(kNames[c]);
+  if (!columns.fields[0] || !columns.fields[1] || !columns.fields[2])
+    fail(path, "PCD file has no x, y, z fields");
+  if (columns.fields[3] && columns.fields[4] && columns.fields[5]) columns.wanted = 6;
+  return columns;
+}
 
+void add_point(SurfaceInput& surface, const PcdColumns& columns, const double (&values)[6]) {
+  surface.points.emplace_back(values[0], values[1], values[2]);
+  if (columns.wanted == 6) surface.normals.emplace_back(values[3], values[4], values[5]);
+}
+
+SurfaceInput read_pcd_ascii(const std::string& path, LineTokenizer rows, const PcdHeader& header,
+                            const PcdColumns& columns) {
   SurfaceInput surface;
-  const auto add = [&](const double(&values)[6]) {
-    surface.points.emplace_back(values[0], values[1], values[2]);
-    if (wanted == 6) surface.normals.emplace_back(values[3], values[4], values[5]);
-  };
-  const std::string_view body = std::string_view(bytes).substr(lines.position());
-  if (data == "ascii") {
-    LineTokenizer rows(path, body, lines.line());
-    double values[6] = {};
-    while (rows.next(tokens)) {
-      if (surface.points.size() == points)
-        rows.fail("more points than POINTS " + std::to_string(points));
-      if (tokens.size() != values_per_point)
-        rows.fail("expected " + std::to_string(values_per_point) + " values, found " +
-                  std::to_string(tokens.size()));
-      for (int c = 0; c < wanted; ++c) {
-        values[c] = rows.number(tokens[columns[c]->value]);
-        // As if stored in the field's type, like the binary formats (and PCL)
-        if (columns[c]->scalar == ScalarType::kFloat32) values[c] = static_cast<float>(values[c]);
-      }
-      add(values);
+  std::vector<std::string_view> tokens;
+  double values[6] = {};
+  while (rows.next(tokens)) {
+    if (surface.points.size() == header.points)
+      rows.fail("more points than POINTS " + std::to_string(header.points));
+    if (tokens.size() != header.values_per_point)
+      rows.fail("expected " + std::to_string(header.values_per_point) + " values, found " +
+                std::to_string(tokens.size()));
+    for (int c = 0; c < columns.wanted; ++c) {
+      const PcdField& field = *columns.fields[c];
+      values[c] = rows.number(tokens[field.value]);
+      // As if stored in the field's type, like the binary formats (and PCL)
+      if (field.scalar == ScalarType::kFloat32) values[c] = static_cast<float>(values[c]);
     }
-    if (surface.points.size() < points)
-      fail(path, "truncated: " + std::to_string(surface.points.size()) + " of " +
-                     std::to_string(points) + " points");
-    return surface;
+    add_point(surface, columns, values);
   }
+  if (surface.points.size() < header.points)
+    fail(path, "truncated: " + std::to_string(surface.points.size()) + " of " +
+                   std::to_string(header.points) + " points");
+  return surface;
+}
 
+// The points of binary data from `start`, the value of field f of point i at start + at(f, i).
+template <typename Offset>
+SurfaceInput read_pcd_values(const char* start, const PcdHeader& header,
+                             const PcdColumns& columns, Offset&& at) {
   // PCL writes binary data in the host's order, which is little-endian everywhere it runs.
   const bool swap = !host_is_little_endian();
-  const auto read_points = [&](const char* start, auto&& at) {
-    double values[6] = {};
-    for (std::size_t i = 0; i < points; ++i) {
-      for (int c = 0; c < wanted; ++c) {
-        const char* cursor = start + at(*columns[c], i);
-        read_scalar(cursor, cursor + columns[c]->size, columns[c]->scalar, swap, values[c]);
-      }
-      add(values);
+  SurfaceInput surface;
+  double values[6] = {};
+  for (std::size_t i = 0; i < header.points; ++i) {
+    for (int c = 0; c < columns.wanted; ++c) {
+      const PcdField& field = *columns.fields[c];
+      const char* cursor = start + at(field, i);
+      read_scalar(cursor, cursor + field.size, field.scalar, swap, values[c]);
     }
-  };
-  if (data == "binary") {
-    if (points > body.size() / point_step)
-      fail(path, "truncated: PCD data of " + std::to_string(body.size()) + " bytes, too few for " +
-                     std::to_string(points) + " points of " + std::to_string(point_step) +
-                     " bytes");
-    read_points(body.data(), [&](const PcdField& field, std::size_t i) {
-      return i * point_step + field.offset;
-    });
-    return surface;
+    add_point(surface, columns, values);
   }
+  return surface;
+}
 
-  // binary_compressed: two 32-bit sizes, then LZF data that unpacks to one block per field
-  // (all points' values of the first field, then of the second, ...), "_" fields left out.
+SurfaceInput read_pcd_binary(const std::string& path, std::string_view body,
+                             const PcdHeader& header, const PcdColumns& columns) {
+  if (header.points > body.size() / header.point_step)
+    fail(path, "truncated: PCD data of " + std::to_string(body.size()) + " bytes, too few for " +
+                   std::to_string(header.points) + " points of " +
+                   std::to_string(header.point_step) + " bytes");
+  return read_pcd_values(body.data(), header, columns, [&](const PcdField& field, std::size_t i) {
+    return i * header.point_step + field.offset;
+  });
+}
+
+// Two 32-bit sizes, then LZF data that unpacks to one block per field (all points' values of the
+// first field, then of the second, ...), "_" fields left out.
+SurfaceInput read_pcd_compressed(const std::string& path, std::string_view body,
+                                 PcdHeader& header, const PcdColumns& columns) {
+  const std::size_t points = header.points, packed_step = header.packed_step;
+  const bool swap = !host_is_little_endian();
   double sizes[2] = {};
   const char* cursor = body.data();
   for (double& size : sizes)
@@ -220,21 +261,36 @@ SurfaceInput read_pcd(const std::string& path) {
   if (uncompressed > kLzfMaxExpansion * compressed)
     fail(path, "corrupt: " + std::to_string(compressed) + " compressed bytes cannot hold " +
                    std::to_string(uncompressed));
-  if (points == 0) return surface;
+  if (points == 0) return {};
   std::vector<char> unpacked(uncompressed);
   if (lzf_decompress(cursor, static_cast<unsigned>(compressed), unpacked.data(),
                      static_cast<unsigned>(uncompressed)) != uncompressed)
     fail(path,
          "corrupt: compressed data does not unpack to " + std::to_string(uncompressed) + " bytes");
   std::size_t start = 0;
-  for (PcdField& field : fields) {
+  for (PcdField& field : header.fields) {
     field.block = start;
     if (field.name != "_") start += points * field.size * field.count;
   }
-  read_points(unpacked.data(), [&](const PcdField& field, std::size_t i) {
-    return field.block + i * field.size * field.count;
-  });
-  return surface;
+  return read_pcd_values(unpacked.data(), header, columns,
+                         [&](const PcdField& field, std::size_t i) {
+                           return field.block + i * field.size * field.count;
+                         });
+}
+
+}  // namespace
+
+SurfaceInput read_pcd(const std::string& path) {
+  const std::string bytes = read_file(path, ".pcd");
+  LineTokenizer lines(path, bytes);
+  PcdHeader header = read_pcd_header(path, lines);
+  lay_out(path, header);
+  const PcdColumns columns = pcd_columns(path, header.fields);
+  const std::string_view body = std::string_view(bytes).substr(lines.position());
+  if (header.data == "ascii")
+    return read_pcd_ascii(path, LineTokenizer(path, body, lines.line()), header, columns);
+  if (header.data == "binary") return read_pcd_binary(path, body, header, columns);
+  return read_pcd_compressed(path, body, header, columns);
 }
 
 }  // namespace vmas::io_internal
