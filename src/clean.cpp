@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "vmas/error.hpp"
 
@@ -25,20 +26,18 @@ bool has_normal(const Vec3& n) { return n.allFinite() && n.stableNorm() > 0.0; }
 
 constexpr double kNoNormal = std::numeric_limits<double>::quiet_NaN();
 
-}  // namespace
+// Marks a point dropped or merged away (CleanReport::kept has none of them).
+constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
 
-CleanReport clean_surface(SurfaceInput& surface) {
-  CleanReport report;
-  const std::size_t count = surface.points.size();
-  const bool with_normals = surface.has_normals();
-  if (with_normals && surface.normals.size() != count)
-    throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
-                       std::to_string(count) + " points");
+using Face = std::array<int, 3>;
+
+// Indices of the points with finite coordinates; throws InvalidInput for an infinite or absurd
+// one. Counts the NaN points and the missing normals of the others.
+std::vector<std::size_t> finite_points(const SurfaceInput& surface, CleanReport& report) {
   const auto& points = surface.points;
-  using Face = std::array<int, 3>;
-
+  const bool with_normals = surface.has_normals();
   std::vector<std::size_t> usable;
-  for (std::size_t i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
     for (int c = 0; c < 3; ++c)
       if (std::isinf(points[i][c]) || std::abs(points[i][c]) > kMaxCoordinate) {
         std::ostringstream problem;
@@ -53,11 +52,17 @@ CleanReport clean_surface(SurfaceInput& surface) {
     usable.push_back(i);
     if (with_normals && !has_normal(surface.normals[i])) ++report.missing_normals;
   }
+  return usable;
+}
 
-  // Sorting by coordinates, then by index, makes the first occurrence of each point its
-  // representative, independently of any hashing.
-  constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
-  std::vector<std::size_t> representative(count, kDropped);
+// For every point, the first of the usable points at the same place (kDropped: not usable).
+// Sorting by coordinates, then by index, makes the first occurrence of each point its
+// representative, independently of any hashing. `usable` comes back sorted; `box_diagonal` is
+// the squared diagonal of the usable points' bounding box.
+std::vector<std::size_t> representatives(const std::vector<Vec3>& points,
+                                         std::vector<std::size_t>& usable, CleanReport& report,
+                                         double& box_diagonal) {
+  std::vector<std::size_t> representative(points.size(), kDropped);
   std::sort(usable.begin(), usable.end(), [&](std::size_t a, std::size_t b) {
     for (int c = 0; c < 3; ++c)
       if (points[a][c] != points[b][c]) return points[a][c] < points[b][c];
@@ -73,10 +78,20 @@ CleanReport clean_surface(SurfaceInput& surface) {
     low = low.cwiseMin(points[i]);
     high = high.cwiseMax(points[i]);
   }
+  box_diagonal = (high - low).squaredNorm();
+  return representative;
+}
 
-  const double min_area = usable.empty() ? 0.0 : 1e-14 * (high - low).squaredNorm();
+// The faces on representatives, without those that lose a corner, repeat one or have (almost)
+// no area; `referenced` marks the corners of the faces kept.
+std::vector<std::array<std::size_t, 3>> kept_faces(const SurfaceInput& surface,
+                                                   const std::vector<std::size_t>& representative,
+                                                   double min_area, CleanReport& report,
+                                                   std::vector<bool>& referenced) {
+  const auto& points = surface.points;
+  const std::size_t count = points.size();
   std::vector<std::array<std::size_t, 3>> faces;
-  std::vector<bool> referenced(count, false);
+  referenced.assign(count, false);
   for (const Face& face : surface.faces) {
     std::array<std::size_t, 3> corners{};
     bool degenerate = false;
@@ -99,6 +114,25 @@ CleanReport clean_surface(SurfaceInput& surface) {
     faces.push_back(corners);
     for (std::size_t corner : corners) referenced[corner] = true;
   }
+  return faces;
+}
+
+}  // namespace
+
+CleanReport clean_surface(SurfaceInput& surface) {
+  CleanReport report;
+  const std::size_t count = surface.points.size();
+  const bool with_normals = surface.has_normals();
+  if (with_normals && surface.normals.size() != count)
+    throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
+                       std::to_string(count) + " points");
+  std::vector<std::size_t> usable = finite_points(surface, report);
+  double box_diagonal = 0.0;
+  const std::vector<std::size_t> representative =
+      representatives(surface.points, usable, report, box_diagonal);
+  const double min_area = usable.empty() ? 0.0 : 1e-14 * box_diagonal;
+  std::vector<bool> referenced;
+  const auto faces = kept_faces(surface, representative, min_area, report, referenced);
 
   const bool mesh = surface.is_mesh();
   std::vector<int> new_index(count, -1);
@@ -111,7 +145,7 @@ CleanReport clean_surface(SurfaceInput& surface) {
     }
     new_index[i] = static_cast<int>(cleaned.points.size());
     report.kept.push_back(static_cast<int>(i));
-    cleaned.points.push_back(points[i]);
+    cleaned.points.push_back(surface.points[i]);
     if (with_normals)
       cleaned.normals.push_back(has_normal(surface.normals[i]) ? unit(surface.normals[i])
                                                                : Vec3::Constant(kNoNormal));
