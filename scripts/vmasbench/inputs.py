@@ -1,0 +1,176 @@
+"""The benchmark's inputs: the paper's table (DATA/paper_tables.tsv: each model's sphere count M
+and the paper's figures) and the files the bench generates, each from its own seed sequence
+[--seed, CRC-32 of the model, stream, ...] so that it depends on its row alone: Table 2's noisy
+clouds and meshes and the outlier cloud, Table 3's sparse, cut and moved copies, the scaling
+clouds."""
+
+import os
+import zlib
+
+import numpy as np
+
+import vmas_files
+
+
+def read_paper_table(path):
+    rows = {}
+    with open(path, encoding="utf-8") as f:
+        lines = [l.rstrip("\n") for l in f if l.strip() and not l.startswith("#")]
+    header = lines[0].split("\t")
+    for line in lines[1:]:
+        values = dict(zip(header, line.split("\t")))
+        row = {}
+        for k, v in values.items():
+            try:
+                row[k] = int(v) if k in ("vertices", "M") else float(v)
+            except ValueError:
+                row[k] = v
+        rows[values["model"]] = row
+    return rows
+
+
+# ---------------------------------------------------------------------------------------------
+# Seeds
+
+
+# streams of the seed sequence [--seed, model, stream, 1000 σ]: each row's data depends on
+# (seed, model, kind, σ) alone, whatever else is run
+STREAM_SAMPLES, STREAM_CLOUD_NOISE, STREAM_MESH_NOISE, STREAM_OUTLIERS = 0, 1, 2, 3
+STREAM_SPARSE, STREAM_TRANSFORMS = 4, 5  # Table 3 (transforms: σ slot = transform index)
+STREAM_SCALING = 4  # seed of a scaling cloud: [--seed, CRC-32 of the model, 4, 0, N]
+
+
+def seed_sequence(seed, model, stream, sigma=0.0):
+    """Seed of numpy's generator for one (model, stream, σ): [seed, CRC-32 of the model name,
+    stream, 1000 σ]."""
+    return [seed, zlib.crc32(model.encode()), stream, int(round(sigma * 1000))]
+
+
+# ---------------------------------------------------------------------------------------------
+# Table 2: noisy clouds and meshes, outliers
+
+
+OUTLIER_FRACTION = 0.01
+
+
+def sigma_name(sigma):
+    return f"{sigma:g}".replace(".", "p")
+
+
+def noise_inputs(args, model, shape, points, faces, work):
+    """Writes the inputs of one model; yields (kind, σ, path, point count, seed sequence).
+    The clean mesh (kind mesh, σ = 0) is the model's own file."""
+    diagonal = vmas_files.bbox_diagonal(points)
+    samples, normals = vmas_files.sample_surface(
+        points, faces, args.cloud_points, seed_sequence(args.seed, model, STREAM_SAMPLES))
+    for sigma in args.noise:  # the clean mesh first: it gives ε(clean)
+        if sigma == 0:
+            yield "mesh", 0.0, shape, len(points), None
+        else:
+            off = os.path.join(work, f"{model}_mesh_s{sigma_name(sigma)}.off")
+            seed = seed_sequence(args.seed, model, STREAM_MESH_NOISE, sigma)
+            noise = np.random.default_rng(seed).normal(scale=sigma / 100 * diagonal,
+                                                       size=points.shape)
+            vmas_files.write_off(off, points + noise, faces)
+            yield "mesh", sigma, off, len(points), seed
+    for sigma in args.noise:
+        # the same noise for both cloud kinds: they differ by the normals alone
+        seed = seed_sequence(args.seed, model, STREAM_CLOUD_NOISE, sigma)
+        cloud = samples if sigma == 0 else samples + np.random.default_rng(seed).normal(
+            scale=sigma / 100 * diagonal, size=samples.shape)
+        for kind, with_normals in (("cloud", None), ("normals", normals)):
+            xyz = os.path.join(work, f"{model}_{kind}_s{sigma_name(sigma)}.xyz")
+            vmas_files.write_xyz(xyz, cloud, with_normals)
+            yield kind, sigma, xyz, len(cloud), seed
+    seed = seed_sequence(args.seed, model, STREAM_OUTLIERS)
+    rng = np.random.default_rng(seed)
+    cloud = samples.copy()
+    replaced = rng.choice(len(cloud), size=int(round(OUTLIER_FRACTION * len(cloud))),
+                          replace=False)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    cloud[replaced] = rng.uniform(lo, hi, size=(len(replaced), 3))
+    xyz = os.path.join(work, f"{model}_outliers.xyz")
+    vmas_files.write_xyz(xyz, cloud)
+    yield "outliers", 0.0, xyz, len(cloud), seed
+
+
+# ---------------------------------------------------------------------------------------------
+# Table 3: sparse, cut and moved copies
+
+
+SPARSE_POINTS = 5000  # the "5 000 points" kind
+SPARSE_MAX_SPHERES = 60  # ... run at min(M, this)
+CAP_FRACTION = 0.1  # cap cut off: the points in the last 10 % of the longest side are removed
+TRANSFORMS = 3  # similarity transforms per model and input kind
+
+
+def random_rotation(rng):
+    q = rng.normal(size=4)
+    a, b, c, d = q / np.linalg.norm(q)
+    return np.array([[a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)],
+                     [2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b)],
+                     [2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]])
+
+
+def sparse_cloud(args, model, points, faces, path):
+    """The "5 000 points" input: SPARSE_POINTS area-weighted random surface points without
+    normals, written to `path`."""
+    sparse, _ = vmas_files.sample_surface(points, faces, SPARSE_POINTS,
+                                          seed_sequence(args.seed, model, STREAM_SPARSE))
+    vmas_files.write_xyz(path, sparse)
+
+
+def cap_cut(args, model, points, faces, path):
+    """The "cap cut off" input, written to `path`: the Table 2 cloud's samples (σ = 0), the end
+    of the longest side cut off. Returns (the points kept, the axis of the cut)."""
+    samples, _ = vmas_files.sample_surface(points, faces, args.cloud_points,
+                                           seed_sequence(args.seed, model, STREAM_SAMPLES))
+    low, high = points.min(axis=0), points.max(axis=0)
+    axis = int(np.argmax(high - low))
+    cut = low[axis] + (1.0 - CAP_FRACTION) * (high[axis] - low[axis])
+    kept = samples[samples[:, axis] <= cut]
+    vmas_files.write_xyz(path, kept)
+    return kept, axis
+
+
+def moved_copy(args, model, points, faces, t, base):
+    """Moved copy `t` of a mesh: a random rotation, a scale e^U(−1,1) and a translation U(−2,2)
+    per axis; writes the mesh BASE_moved<t>.off and its vertex cloud BASE_moved<t>.xyz. Returns
+    (the mesh's path, the cloud's path, the scale)."""
+    rng = np.random.default_rng(seed_sequence(args.seed, model, STREAM_TRANSFORMS, t))
+    rotation, scale = random_rotation(rng), float(np.exp(rng.uniform(-1.0, 1.0)))
+    moved = points @ rotation.T * scale + rng.uniform(-2.0, 2.0, size=3)
+    off, xyz = base + f"_moved{t}.off", base + f"_moved{t}.xyz"
+    vmas_files.write_off(off, moved, faces)
+    vmas_files.write_xyz(xyz, moved)
+    return off, xyz, scale
+
+
+# ---------------------------------------------------------------------------------------------
+# Scaling
+
+
+def scaling_cloud(args, model, points, faces, count, work):
+    """OUT/scaling/<model>_<count>.ply: `count` area-weighted random surface points without
+    normals, binary little-endian PLY (float x y z). A file with the same header (count, model,
+    seed) and size is kept. Returns (path, seed sequence, True if it was kept)."""
+    seed = seed_sequence(args.seed, model, STREAM_SCALING) + [count]
+    path = os.path.join(work, f"{model}_{count}.ply")
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"comment scripts/bench: {count} area-weighted random points of {model}.off, "
+              f"seed sequence {seed}\n"
+              f"element vertex {count}\nproperty float x\nproperty float y\nproperty float z\n"
+              "end_header\n").encode()
+    try:
+        with open(path, "rb") as f:
+            if f.read(len(header)) == header and \
+                    os.path.getsize(path) == len(header) + 12 * count:
+                return path, seed, True
+    except OSError:
+        pass
+    samples, _ = vmas_files.sample_surface(points, faces, count, seed)
+    with open(path + ".tmp", "wb") as f:
+        f.write(header)
+        samples.astype("<f4").tofile(f)
+    os.replace(path + ".tmp", path)
+    return path, seed, False

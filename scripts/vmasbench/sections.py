@@ -1,0 +1,258 @@
+"""The sections as run: Table 1, Table 2 (and the picture of its worst row), Table 3 and
+the scaling, each walking its models and inputs, running vmas on each and storing the rows in
+the results (saved as they come)."""
+
+import math
+import os
+
+import vmas_files
+
+from . import running
+from .inputs import (SPARSE_MAX_SPHERES, STREAM_SAMPLES, TRANSFORMS, cap_cut, moved_copy,
+                     noise_inputs, scaling_cloud, seed_sequence, sparse_cloud)
+from .plots import plot_scaling, render
+from .running import evaluate, read_mesh, skeletonize
+from .tables import KIND_LABEL, REFERENCES, entry_eps, noise_targets, row_eps
+
+
+def table1(args, paper, results, save, log):
+    meshes = os.path.join(args.data, "meshes")
+    work = os.path.join(args.out, "meshes")
+    os.makedirs(work, exist_ok=True)
+    for model in args.models:
+        shape = os.path.join(meshes, model + ".off")
+        row = {"model": model}
+        results["table1"].append(row)
+        if model not in paper:
+            row["error"] = "model not in paper_tables.tsv"
+            continue
+        spheres = paper[model]["M"]
+        row["M"] = spheres
+        try:
+            row["vertices"] = len(read_mesh(shape)[0])
+        except (OSError, ValueError) as e:
+            row["error"] = f"cannot read {shape}: {e}"
+            continue
+        log(f"[table 1] {model}: skeletonize M={spheres}")
+        ours_ply = os.path.join(work, model + ".ply")
+        errors_txt = os.path.join(work, model + "_errors.txt")
+        medial_errors_txt = os.path.join(work, model + "_medial_errors.txt")
+        row["ours"] = skeletonize(args, shape, ours_ply, spheres)
+        if not row["ours"].get("error"):
+            log(f"[table 1] {model}: eval ours")
+            row["ours"]["eval"] = evaluate(args.vmas, shape, ours_ply, args.timeout, errors_txt,
+                                           medial_errors_txt)
+        for name, _ in REFERENCES:
+            ma = os.path.join(args.data, "reference", model, name + ".ma")
+            if not os.path.exists(ma):
+                row[name] = {"error": "no reference file"}
+                continue
+            log(f"[table 1] {model}: eval {name}")
+            row[name] = evaluate(args.vmas, shape, ma, args.timeout)
+        save()
+        if args.render and not row["ours"].get("error"):
+            png = os.path.join(args.out, model + ".png")
+            ours_eval = row["ours"].get("eval", {})
+            evaluated = not ours_eval.get("error")
+            errors = errors_txt if os.path.exists(errors_txt) and evaluated else "-"
+            medial_errors = medial_errors_txt if os.path.exists(medial_errors_txt) and evaluated \
+                else "-"
+            eps = ours_eval.get("eps_percent")
+            title = f"{model}: vmas, M={spheres}" + (f", ε={eps:.3f} %" if eps is not None else "")
+            row["render"] = render(args, shape, ours_ply, errors, png,
+                                   "--medial-errors", medial_errors, "--title", title)
+
+
+def table2(args, paper, results, save, log):
+    meshes = os.path.join(args.data, "meshes")
+    work = os.path.join(args.out, "noise")
+    os.makedirs(work, exist_ok=True)
+    table1_runs = {r["model"]: r["ours"] for r in results["table1"]
+                   if r.get("ours") and not r["ours"].get("error")
+                   and not r["ours"].get("eval", {}).get("error")}
+    for model in args.cloud_models:
+        shape = os.path.join(meshes, model + ".off")
+        if model not in paper:
+            results["table2"].append({"model": model, "kind": "–", "sigma_percent": None,
+                                      "error": "model not in paper_tables.tsv"})
+            continue
+        spheres = paper[model]["M"]
+        try:
+            points, faces = read_mesh(shape)
+        except (OSError, ValueError) as e:
+            results["table2"].append({"model": model, "kind": "–", "sigma_percent": None,
+                                      "error": f"cannot read {shape}: {e}"})
+            continue
+        for kind, sigma, path, count, seed in noise_inputs(args, model, shape, points, faces,
+                                                           work):
+            row = {"model": model, "kind": kind, "sigma_percent": sigma, "input": path,
+                   "points": count, "M": spheres, "seed_sequence": seed,
+                   "samples_seed_sequence": None if kind == "mesh" else
+                   seed_sequence(args.seed, model, STREAM_SAMPLES)}
+            results["table2"].append(row)
+            what = f"[table 2] {model}, {KIND_LABEL[kind]}, σ={sigma:g} %"
+            if kind == "mesh" and sigma == 0 and model in table1_runs:
+                log(f"{what}: the clean mesh, run of Table 1 reused")
+                row["ours"], row["reused"] = table1_runs[model], "table1"
+                continue
+            ply = os.path.splitext(path)[0] + ".ply" if path != shape else \
+                os.path.join(work, f"{model}_mesh_s0.ply")
+            log(f"{what}: skeletonize M={spheres}")
+            row["ours"] = skeletonize(args, path, ply, spheres)
+            if not row["ours"].get("error"):
+                log(f"{what}: eval against the clean mesh")
+                row["ours"]["eval"] = evaluate(args.vmas, shape, ply, args.timeout)
+            row["ours"]["medial"] = ply
+            if sigma > 0 or kind == "outliers":
+                # "never worse than doing nothing": the same input taken as it is
+                log(f"{what}: skeletonize --denoise off")
+                off_ply = os.path.splitext(ply)[0] + "_off.ply"
+                row["denoise_off"] = skeletonize(args, path, off_ply, spheres,
+                                                 extra=("--denoise", "off"))
+                if not row["denoise_off"].get("error"):
+                    row["denoise_off"]["eval"] = evaluate(args.vmas, shape, off_ply,
+                                                          args.timeout)
+            save()
+        noise_targets(results)
+        save()
+
+
+def render_worst(args, results, log):
+    """OUT/noise_worst.png: the row of Table 2 with the largest ε − bound."""
+    rows = [r for r in results["table2"] if row_eps(r) is not None and r.get("bound_percent")
+            is not None and r.get("targets", {}).get("epsilon", {}).get("ok") is not None]
+    if not rows:
+        return
+    worst = max(rows, key=lambda r: row_eps(r) - r["bound_percent"])
+    shape = os.path.join(args.data, "meshes", worst["model"] + ".off")
+    medial = worst["ours"]["medial"]
+    errors = os.path.join(args.out, "noise", "worst_errors.txt")
+    medial_errors = os.path.join(args.out, "noise", "worst_medial_errors.txt")
+    log(f"[table 2] picture of the worst row: {worst['model']}, {KIND_LABEL[worst['kind']]}, "
+        f"σ={worst['sigma_percent']:g} %")
+    evaluation = evaluate(args.vmas, shape, medial, args.timeout, errors, medial_errors)
+    png = os.path.join(args.out, "noise_worst.png")
+    ev = worst["ours"]["eval"]
+    title = (f"{worst['model']}, {KIND_LABEL[worst['kind']]}, σ={worst['sigma_percent']:g} %: "
+             f"ε={row_eps(worst):.2f} % (bound {worst['bound_percent']:.2f} %; surface → medial "
+             f"{ev.get('surface_to_medial_max_percent', math.nan):.2f}, medial → surface "
+             f"{ev.get('medial_to_surface_max_percent', math.nan):.2f})")
+    evaluated = not evaluation.get("error")
+    results["noise_worst"] = {"model": worst["model"], "kind": worst["kind"],
+                              "sigma_percent": worst["sigma_percent"], "eval": evaluation,
+                              "render": render(args, shape, medial, errors if evaluated else "-",
+                                               png, "--title", title, "--input", worst["input"],
+                                               "--medial-errors",
+                                               medial_errors if evaluated else "-")}
+
+
+def run_and_measure(args, log, what, inputs, truth, ply, spheres, data=None):
+    """skeletonize `inputs` (--json) at `spheres`, eval against `truth` (and `data`, the input
+    itself, when given); the entry of skeletonize() with "eval" (and "eval_data")."""
+    log(f"[table 3] {what}: skeletonize M={spheres}")
+    entry = skeletonize(args, inputs, ply, spheres)
+    if not entry.get("error"):
+        entry["eval"] = evaluate(args.vmas, truth, ply, args.timeout)
+        if data:
+            entry["eval_data"] = evaluate(args.vmas, data, ply, args.timeout)
+    return entry
+
+
+def table3(args, paper, results, save, log):
+    meshes = os.path.join(args.data, "meshes")
+    work = os.path.join(args.out, "robustness")
+    os.makedirs(work, exist_ok=True)
+    clean_meshes = {r["model"]: r["ours"] for r in results["table2"]
+                    if r.get("kind") == "mesh" and r.get("sigma_percent") == 0
+                    and entry_eps(r.get("ours")) is not None}
+    for model in args.cloud_models:
+        if model not in paper:
+            continue
+        shape = os.path.join(meshes, model + ".off")
+        points, faces = read_mesh(shape)
+        spheres, sparse_spheres = paper[model]["M"], min(paper[model]["M"], SPARSE_MAX_SPHERES)
+        row = {"model": model, "M": spheres, "sparse_M": sparse_spheres}
+        results["table3"].append(row)
+        base = os.path.join(work, model)
+        # the clean mesh at M: Table 2's run (itself Table 1's when that ran)
+        row["mesh"] = clean_meshes.get(model) or run_and_measure(
+            args, log, f"{model}, mesh", shape, shape, base + "_mesh.ply", spheres)
+        row["mesh_sparse_M"] = row["mesh"] if sparse_spheres == spheres else run_and_measure(
+            args, log, f"{model}, mesh at {sparse_spheres}", shape, shape,
+            base + f"_mesh_{sparse_spheres}.ply", sparse_spheres)
+        vertices = base + "_vertices.xyz"
+        vmas_files.write_xyz(vertices, points)
+        row["vertex_cloud"] = run_and_measure(args, log, f"{model}, vertex cloud", vertices,
+                                              shape, base + "_vertices.ply", spheres)
+        sparse_xyz = base + "_5000.xyz"
+        sparse_cloud(args, model, points, faces, sparse_xyz)
+        row["sparse"] = run_and_measure(args, log, f"{model}, 5 000 points", sparse_xyz, shape,
+                                        base + "_5000.ply", sparse_spheres)
+        cap_xyz = base + "_cap.xyz"
+        kept, axis = cap_cut(args, model, points, faces, cap_xyz)
+        cap = run_and_measure(args, log, f"{model}, cap cut off", cap_xyz, shape,
+                              base + "_cap.ply", spheres, data=cap_xyz)
+        if not cap.get("error"):
+            try:
+                medial = running.vmas.read_medial(base + "_cap.ply")
+                diagonal = vmas_files.bbox_diagonal(kept)
+                cap["reach_percent"] = float(
+                    100.0 * ((medial.centers[:, axis] + medial.radii).max() - kept[:, axis].max())
+                    / diagonal)
+            except (OSError, ValueError) as e:
+                cap["reach_error"] = str(e)
+        row["cap"] = cap
+        row["transforms"] = {"mesh": [], "vertex_cloud": []}
+        for t in range(TRANSFORMS):
+            moved_off, moved_xyz, scale = moved_copy(args, model, points, faces, t, base)
+            row["transforms"]["mesh"].append(dict(run_and_measure(
+                args, log, f"{model}, moved mesh {t}", moved_off, moved_off,
+                base + f"_moved{t}_mesh.ply", spheres), scale=scale))
+            row["transforms"]["vertex_cloud"].append(dict(run_and_measure(
+                args, log, f"{model}, moved vertex cloud {t}", moved_xyz, moved_off,
+                base + f"_moved{t}_vertices.ply", spheres), scale=scale))
+        save()
+
+
+def scaling(args, results, save, log):
+    """For every --scaling-points N and --scaling-spheres M: skeletonizes the cloud of N points
+    with M spheres (JSON summary, peak RSS) and measures ε against the clean mesh; then plots
+    OUT/scaling.png."""
+    model = args.scaling_model
+    shape = os.path.join(args.data, "meshes", model + ".off")
+    work = os.path.join(args.out, "scaling")
+    os.makedirs(work, exist_ok=True)
+    try:
+        points, faces = read_mesh(shape)
+    except (OSError, ValueError) as e:
+        points = faces = None
+        error = f"cannot read {shape}: {e}"
+    for count in args.scaling_points:
+        if points is not None:
+            log(f"[scaling] {model}, {count} points: cloud")
+            try:
+                cloud, seed, kept = scaling_cloud(args, model, points, faces, count, work)
+                error = None
+                log(f"[scaling] {model}, {count} points: cloud "
+                    f"{'kept (same header)' if kept else 'written'}: {cloud}")
+            except OSError as e:
+                error = f"cannot write the cloud: {e}"
+        for spheres in args.scaling_spheres:
+            row = {"model": model, "points": count, "spheres": spheres}
+            results["scaling"].append(row)
+            if error:
+                row["error"] = error
+                continue
+            row.update(input=cloud, seed_sequence=seed)
+            what = f"[scaling] {model}, {count} points, M={spheres}"
+            log(f"{what}: skeletonize")
+            ply = os.path.join(work, f"{model}_{count}_{spheres}.ply")
+            row["ours"] = skeletonize(args, cloud, ply, spheres, memory=True)
+            if not row["ours"].get("error"):
+                log(f"{what}: eval against the clean mesh")
+                row["ours"]["eval"] = evaluate(args.vmas, shape, ply, args.timeout)
+            save()
+    png = os.path.join(args.out, "scaling.png")
+    results["scaling_plot"] = plot_scaling(results["scaling"], model, args, png)
+    log(f"[scaling] plot: {png}" if results["scaling_plot"] == png else
+        f"[scaling] no plot: {results['scaling_plot']['error']}")
