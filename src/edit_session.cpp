@@ -169,15 +169,14 @@ void EditSession::Impl::set_target_spheres(int count) {
 }
 
 void EditSession::Impl::set_lambda(double lambda) {
-  if (!(lambda >= 0.0 && lambda <= 1e6))
-    throw InvalidOption("lambda", "must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
+  SkeletonizerOptions::check_lambda("lambda", lambda);
   enqueue({Edit::Kind::Lambda, 0, 0, lambda});
 }
 
 void EditSession::Impl::change_target_spheres(int by) { enqueue({Edit::Kind::TargetBy, 0, by}); }
 
 void EditSession::Impl::scale_lambda(double factor) {
-  if (!(factor > 0.0 && factor <= 1e6))
+  if (!(factor > 0.0 && factor <= SkeletonizerOptions::kMaxLambda))
     throw InvalidOption("lambda", "factor must be in (0, 1e6] (got " + std::to_string(factor) + ")");
   enqueue({Edit::Kind::LambdaTimes, 0, 0, factor});
 }
@@ -272,7 +271,7 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
       s.set_lambda(edit.number);
       return true;
     case Edit::Kind::LambdaTimes:
-      s.set_lambda(std::min(s.options().lambda * edit.number, 1e6));
+      s.set_lambda(std::min(s.options().lambda * edit.number, SkeletonizerOptions::kMaxLambda));
       return true;
     case Edit::Kind::Pause:
       paused_ = edit.value != 0;

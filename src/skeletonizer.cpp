@@ -15,12 +15,14 @@
 
 namespace vmas {
 
+void SkeletonizerOptions::check_lambda(const std::string& option, double value) {
+  if (!(value >= 0.0 && value <= kMaxLambda))
+    throw InvalidOption(option, "must be in [0, 1e6] (got " + std::to_string(value) + ")");
+}
+
 void SkeletonizerOptions::validate() const {
-  if (!(lambda >= 0.0 && lambda <= 1e6))
-    throw InvalidOption("lambda", "must be in [0, 1e6] (got " + std::to_string(lambda) + ")");
-  if (!(final_lambda >= 0.0 && final_lambda <= 1e6))
-    throw InvalidOption("final-lambda",
-                        "must be in [0, 1e6] (got " + std::to_string(final_lambda) + ")");
+  check_lambda("lambda", lambda);
+  check_lambda("final-lambda", final_lambda);
   if (final_rounds < 0 || final_rounds > 100)
     throw InvalidOption("final-rounds",
                         "must be between 0 and 100 (got " + std::to_string(final_rounds) + ")");

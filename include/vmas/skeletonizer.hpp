@@ -8,6 +8,7 @@
 // Keys name spheres for their life: a sphere keeps its key whatever is added or removed.
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "vmas/projection.hpp"
@@ -66,6 +67,10 @@ struct SkeletonizerOptions {
   SplitOptions split;
 
   void validate() const;  // throws InvalidOption
+
+  // The range of λ and final_lambda (and of a λ changed later, EditSession::set_lambda).
+  static constexpr double kMaxLambda = 1e6;
+  static void check_lambda(const std::string& option, double value);  // throws InvalidOption
 };
 
 // Seconds spent in each stage: a Skeletonizer's own (partition, update, projection, split) so
