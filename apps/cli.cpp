@@ -50,7 +50,8 @@ std::pair<std::string, int> describe(const std::string& name, const std::excepti
     return {std::string(e.what()) + " (try: vmas " + name + " --help)", 2};
   } catch (const InvalidOption& e) {
     // Named as typed on the command line: "--lambda must be ...".
-    return {(e.option().empty() ? "" : "--") + std::string(e.what()), 2};
+    if (e.option().empty()) return {e.what(), 2};
+    return {"--" + flag_of(e.option()) + " " + e.problem(), 2};
   } catch (const std::exception& e) {
     return {e.what(), 1};
   } catch (...) {

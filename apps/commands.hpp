@@ -49,6 +49,10 @@ struct RunOptionValues {
 void add_run_options(boost::program_options::options_description& visible, RunOptionValues& values);
 // After notify(): the flags and --denoise into `options`, then options.validate().
 void finish_run_options(const boost::program_options::variables_map& vm, RunOptionValues& values);
+// The flag (without dashes) that sets the field of vmas::Options that InvalidOption::option()
+// names ("run.lambda": "lambda"); an option that is no such field is taken as a flag already
+// (the commands' own, such as "port").
+std::string flag_of(const std::string& option);
 
 // Fails before any work is done when an output cannot possibly be written (a usage error):
 // `check` is vmas::check_output or vmas::check_medial_mesh_output.

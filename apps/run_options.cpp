@@ -1,6 +1,7 @@
 // The options of a run, shared by `vmas skeletonize` and `vmas edit`: everything in
 // vmas::Options, spelled as on the command line.
 #include <string>
+#include <utility>
 
 #include "commands.hpp"
 #include "standard_streams.hpp"
@@ -33,7 +34,36 @@ PrepareOptions::Denoise parse_denoise(const std::string& text, double& sigma) {
   return PrepareOptions::Denoise::Fixed;
 }
 
+// The field of vmas::Options each flag of add_run_options sets.
+constexpr std::pair<const char*, const char*> kFieldFlags[] = {
+    {"run.target.spheres", "spheres"},
+    {"run.target.error", "error"},
+    {"run.max_spheres", "max-spheres"},
+    {"run.lambda", "lambda"},
+    {"run.final_lambda", "final-lambda"},
+    {"run.final_rounds", "final-rounds"},
+    {"refine.max_moves", "refine-moves"},
+    {"refine.min_gain", "refine-min-gain"},
+    {"shape.k", "k"},
+    {"prepare.normals.k", "normal-k"},
+    {"prepare.max_points", "max-points"},
+    {"prepare.noise_sigma", "denoise"},
+    {"run.max_iterations", "max-iterations"},
+    {"run.convergence", "convergence"},
+    {"run.split_interval", "split-interval"},
+    {"run.split.max_per_round", "splits-per-round"},
+    {"run.shrinking_ball.denoise_angle_deg", "denoise-angle"},
+    {"run.shrinking_ball.tolerance", "ball-tolerance"},
+    {"starts", "starts"},
+    {"threads", "threads"}};
+
 }  // namespace
+
+std::string flag_of(const std::string& option) {
+  for (const auto& [field, flag] : kFieldFlags)
+    if (option == field) return flag;
+  return option;
+}
 
 void add_run_options(po::options_description& visible, RunOptionValues& values) {
   const Options defaults;

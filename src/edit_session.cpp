@@ -163,7 +163,7 @@ void EditSession::Impl::freeze(std::uint64_t key, bool frozen) {
 
 void EditSession::Impl::set_target_spheres(int count) {
   if (count < 1 || count > most_spheres_)
-    throw InvalidOption("spheres", "must be between 1 and " + std::to_string(most_spheres_) +
+    throw InvalidOption("count", "must be between 1 and " + std::to_string(most_spheres_) +
                                        " (got " + std::to_string(count) + ")");
   enqueue({Edit::Kind::Target, 0, count});
 }

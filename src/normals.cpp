@@ -247,7 +247,7 @@ double outward_flux(const std::vector<Vec3>& points, const std::vector<Vec3>& no
 
 void NormalOptions::validate() const {
   if (k < 3 || k > 200)
-    throw InvalidOption("normal-k", "must be between 3 and 200 (got " + std::to_string(k) + ")");
+    throw InvalidOption("k", "must be between 3 and 200 (got " + std::to_string(k) + ")");
 }
 
 namespace {

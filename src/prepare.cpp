@@ -12,6 +12,7 @@
 #include "principal_axes.hpp"
 #include "stopwatch.hpp"
 #include "subsample.hpp"
+#include "validate_member.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 
@@ -103,15 +104,15 @@ MedialMesh Frame::to_input(MedialMesh mesh) const {
 
 void PrepareOptions::validate() const {
   if (max_points != 0 && max_points < kMinMaxPoints)
-    throw InvalidOption("max-points", "must be 0 (every point) or at least " +
+    throw InvalidOption("max_points", "must be 0 (every point) or at least " +
                                           std::to_string(kMinMaxPoints) + " (got " +
                                           std::to_string(max_points) + ")");
   if (denoise == Denoise::Fixed && !(noise_sigma >= 0.0 && noise_sigma < 0.5))
-    throw InvalidOption("denoise",
+    throw InvalidOption("noise_sigma",
                         "deviation must be in [0, 0.5) of the bounding-box diagonal (got " +
                             std::to_string(noise_sigma) + ")");
-  normals.validate();
-  noise.validate();
+  internal::validate_member("normals", normals);
+  internal::validate_member("noise", noise);
 }
 
 namespace {

@@ -47,7 +47,7 @@ void ShrinkingBallOptions::validate() const {
     throw InvalidOption("shrinking-ball iterations must be between 1 and 1000 (got " +
                         std::to_string(max_iterations) + ")");
   if (!(tolerance >= 0.0 && tolerance < 0.1))
-    throw InvalidOption("ball-tolerance",
+    throw InvalidOption("tolerance",
                         "must be in [0, 0.1) (got " + std::to_string(tolerance) + ")");
   if (!(box_margin >= 0.0 && box_margin <= 1.0))
     throw InvalidOption("shrinking-ball box margin must be in [0, 1] (got " +
@@ -56,7 +56,7 @@ void ShrinkingBallOptions::validate() const {
     throw InvalidOption("shrinking-ball initial radius must be in (0, 100] (got " +
                         std::to_string(initial_radius) + ")");
   if (!(denoise_angle_deg >= 0.0 && denoise_angle_deg < 180.0))
-    throw InvalidOption("denoise-angle", "must be in [0, 180) degrees (got " +
+    throw InvalidOption("denoise_angle_deg", "must be in [0, 180) degrees (got " +
                                              std::to_string(denoise_angle_deg) + ")");
 }
 

@@ -18,10 +18,10 @@ namespace vmas {
 
 void RefineOptions::validate() const {
   if (max_moves < 0 || max_moves > 1000)
-    throw InvalidOption("refine-moves",
+    throw InvalidOption("max_moves",
                         "must be between 0 and 1000 (got " + std::to_string(max_moves) + ")");
   if (!(min_gain >= 0.0 && min_gain < 1.0))
-    throw InvalidOption("refine-min-gain",
+    throw InvalidOption("min_gain",
                         "must be in [0, 1) (got " + std::to_string(min_gain) + ")");
 }
 

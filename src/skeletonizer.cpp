@@ -11,6 +11,7 @@
 #include "split.hpp"
 #include "stopwatch.hpp"
 #include "update.hpp"
+#include "validate_member.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -22,33 +23,33 @@ void SkeletonizerOptions::check_lambda(const std::string& option, double value) 
 
 void SkeletonizerOptions::validate() const {
   check_lambda("lambda", lambda);
-  check_lambda("final-lambda", final_lambda);
+  check_lambda("final_lambda", final_lambda);
   if (final_rounds < 0 || final_rounds > 100)
-    throw InvalidOption("final-rounds",
+    throw InvalidOption("final_rounds",
                         "must be between 0 and 100 (got " + std::to_string(final_rounds) + ")");
   if (target.spheres < 0)
-    throw InvalidOption("spheres",
+    throw InvalidOption("target.spheres",
                         "must be at least 1 (got " + std::to_string(target.spheres) + ")");
   if (!(target.error >= 0.0 && target.error < 1.0))
-    throw InvalidOption("error", "must be in (0, 1), relative to the bounding-box diagonal (got " +
+    throw InvalidOption("target.error", "must be in (0, 1), relative to the bounding-box diagonal (got " +
                                      std::to_string(target.error) + ")");
   if (target.spheres > 0 && target.error > 0.0)
-    throw InvalidOption("error", "cannot go with spheres: give one or the other");
-  if (max_spheres < 1) throw InvalidOption("max-spheres", "must be at least 1");
+    throw InvalidOption("target.error", "cannot go with spheres: give one or the other");
+  if (max_spheres < 1) throw InvalidOption("max_spheres", "must be at least 1");
   if (target.count() > max_spheres)
-    throw InvalidOption("spheres", "must be at most " + std::to_string(max_spheres) + " (got " +
+    throw InvalidOption("target.spheres", "must be at most " + std::to_string(max_spheres) + " (got " +
                                        std::to_string(target.count()) + ")");
-  if (max_iterations < 1) throw InvalidOption("max-iterations", "must be at least 1");
+  if (max_iterations < 1) throw InvalidOption("max_iterations", "must be at least 1");
   if (!(convergence >= 0.0 && convergence < 1.0))
     throw InvalidOption("convergence",
                         "must be in [0, 1) (got " + std::to_string(convergence) + ")");
-  if (split_interval < 1) throw InvalidOption("split-interval", "must be at least 1");
+  if (split_interval < 1) throw InvalidOption("split_interval", "must be at least 1");
   if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
     throw InvalidOption("settle iterations must be in [0, max settle iterations]");
   if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
-  update.validate();
-  shrinking_ball.validate();
-  split.validate();
+  internal::validate_member("update", update);
+  internal::validate_member("shrinking_ball", shrinking_ball);
+  internal::validate_member("split", split);
 }
 
 namespace {
@@ -211,7 +212,7 @@ void Skeletonizer::fit_and_project(double lambda) {
 
 void Skeletonizer::check_target_fits(const Target& target) const {
   if (target.count() > shape_.size())
-    throw InvalidOption("spheres", "must be at most the number of points (" +
+    throw InvalidOption("target.spheres", "must be at most the number of points (" +
                                        std::to_string(shape_.size()) + ", got " +
                                        std::to_string(target.count()) + ")");
 }

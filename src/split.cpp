@@ -14,7 +14,7 @@ void SplitOptions::validate() const {
                         ")");
   if (large_count_share < 1) throw InvalidOption("split share of a large count must be at least 1");
   if (max_per_round < 1)
-    throw InvalidOption("splits-per-round",
+    throw InvalidOption("max_per_round",
                         "must be at least 1 (got " + std::to_string(max_per_round) + ")");
 }
 

@@ -13,6 +13,7 @@
 #include "connectivity.hpp"
 #include "normals.hpp"
 #include "stopwatch.hpp"
+#include "validate_member.hpp"
 #include "vmas/eval.hpp"
 
 #ifdef _OPENMP
@@ -140,10 +141,10 @@ void Options::validate() const {
   if (starts < 1 || starts > kMaxStarts)
     throw InvalidOption("starts", "must be between 1 and " + std::to_string(kMaxStarts) +
                                       " (got " + std::to_string(starts) + ")");
-  run.validate();
-  shape.validate();
-  prepare.validate();
-  refine.validate();
+  internal::validate_member("run", run);
+  internal::validate_member("shape", shape);
+  internal::validate_member("prepare", prepare);
+  internal::validate_member("refine", refine);
 }
 
 namespace {
@@ -227,7 +228,15 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   Result& result = pass.result;
   result = std::move(prepared.result);
   const SkeletonizerOptions run = prepared.run;
-  Skeletonizer skeletonizer(std::move(prepared.shape), run);
+  // Its options are Options::run (a count more than the points is found here).
+  const auto build = [&] {
+    try {
+      return Skeletonizer(std::move(prepared.shape), run);
+    } catch (const InvalidOption& e) {
+      throw e.within("run");
+    }
+  };
+  Skeletonizer skeletonizer = build();
   // The refinement's evaluator needs only the surface: it is built beside the run (its time is
   // then hidden in the run's, or in the waiting for it at the refinement's start).
   std::future<std::unique_ptr<Evaluator>> evaluator;

@@ -352,7 +352,8 @@ TEST_F(Cli, SpecialFilesAreNeverReplaced) {
 TEST_F(Cli, OptionErrorsNameTheFlagAsTyped) {
   write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
   for (const std::string option :
-       {"--lambda -1", "--normal-k 1", "--ball-tolerance 2", "--k 500"}) {
+       {"--lambda -1", "--normal-k 1", "--ball-tolerance 2", "--k 500", "--final-lambda -2",
+        "--max-points 5", "--splits-per-round 0", "--denoise-angle 400", "--refine-moves -1"}) {
     const Result r = run("skeletonize " + path("a.off") + " -o " + path("o.ply") + " " + option);
     EXPECT_EQ(r.exit_code, 2) << option;
     expect_one_line_error(r, option.substr(0, option.find(' ')) + " must");

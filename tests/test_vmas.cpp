@@ -292,8 +292,17 @@ TEST(OneCall, OptionErrorsNameTheOption) {
     skeletonize(cloud, options);
     ADD_FAILURE() << "no InvalidOption";
   } catch (const InvalidOption& e) {
-    EXPECT_EQ(e.option(), "lambda");
-    EXPECT_EQ(std::string(e.what()).rfind("lambda must", 0), 0u) << e.what();
+    EXPECT_EQ(e.option(), "run.lambda");
+    EXPECT_EQ(e.problem(), "must be in [0, 1e6] (got -1.000000)");
+    EXPECT_EQ(std::string(e.what()).rfind("run.lambda must", 0), 0u) << e.what();
+  }
+  options = Options();
+  options.prepare.normals.k = 1;  // two levels down
+  try {
+    skeletonize(cloud, options);
+    ADD_FAILURE() << "no InvalidOption";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "prepare.normals.k");
   }
   options = Options();
   options.run.target.spheres = 10;

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -316,7 +317,10 @@ PYBIND11_MODULE(vmas, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InvalidOption& e) {
-      invalid_option(e.what());
+      // Named as the keyword argument that sets it: "final_lambda must be ...".
+      std::string name = cli::flag_of(e.option());
+      std::replace(name.begin(), name.end(), '-', '_');
+      invalid_option(e.option().empty() ? e.what() : (name + " " + e.problem()).c_str());
     } catch (const InvalidArgument& e) {
       invalid_argument(e.what());
     } catch (const InvalidInput& e) {

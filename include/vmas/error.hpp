@@ -21,17 +21,23 @@ struct InvalidInput : Error {
 };
 
 // An option value out of its range (thrown by the options structs' validate()); a usage error.
-// When the value is one of vmas::Options, option() names it as the CLI spells it without its
-// dashes ("lambda", "normal-k"), and the message starts with that name, so that a front end can
-// point at its own spelling ("--lambda must be ...").
+// option() names the field at fault as a path from the struct validated ("lambda",
+// "normals.k"; from vmas::Options: "run.lambda", "prepare.normals.k") and the message is that
+// path and problem(), so that a front end can name the field its own way ("--lambda must be
+// ...").
 struct InvalidOption : Error {
   using Error::Error;
   InvalidOption(const std::string& option, const std::string& problem)
-      : Error(option + " " + problem), option_(option) {}
+      : Error(option + " " + problem), option_(option), problem_(problem) {}
   const std::string& option() const { return option_; }
+  const std::string& problem() const { return problem_; }
+  // The same problem, seen from the struct holding the one validated as its member `member`.
+  InvalidOption within(const std::string& member) const {
+    return option_.empty() ? *this : InvalidOption(member + "." + option_, problem_);
+  }
 
  private:
-  std::string option_;
+  std::string option_, problem_;
 };
 
 // A call that does not fit the object it is made on: an id, key or vertex that names nothing,
