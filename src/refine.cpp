@@ -169,6 +169,25 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
   return -1;
 }
 
+// A move that did not help alone: the neighbours adapt to it (a few steps and the final refits;
+// the new sphere is frozen).
+void settle_around_move(Skeletonizer& skeletonizer) {
+  for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
+  for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
+    skeletonizer.final_refit(round);
+}
+
+// Whether a kept move lowered the side it aimed at by less than `min_gain` (a fraction): when
+// both sides are close, the other one can hold the two-sided error while the aimed one drops.
+bool gained_little(bool aimed_uncovered, const EvalResult& before, const EvalResult& after,
+                   double min_gain) {
+  const double aimed_before =
+      aimed_uncovered ? before.surface_to_medial_max : before.medial_to_surface_max;
+  const double aimed_after =
+      aimed_uncovered ? after.surface_to_medial_max : after.medial_to_surface_max;
+  return aimed_after > (1.0 - min_gain) * aimed_before;
+}
+
 }  // namespace
 
 EvalOptions refinement_eval_options() {
@@ -240,8 +259,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
       break;
     }
     ++report.tried;
-    // First the move alone (the rest stays as it is); if that does not help, the neighbours
-    // adapt to it: a few steps and the final refits, the new sphere held in place.
+    // First the move alone (the rest stays as it is); if that does not help, settled.
     // A move at the other side must gain noticeably: against smoothed noisy data a tiny gain
     // is as likely a loss against the true surface.
     const double needed = aim_switched ? (1.0 - options.min_gain) * best.hausdorff : best.hausdorff;
@@ -250,9 +268,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     };
     EvalResult trial = measure();
     if (!better(trial)) {
-      for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
-      for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
-        skeletonizer.final_refit(round);
+      settle_around_move(skeletonizer);
       trial = measure();
     }
     if (!better(trial)) {
@@ -262,14 +278,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     }
     placed.erase(placed.begin() + removed);
     placed.push_back(true);
-    // The gain on the side the move aimed at: when both sides are close, the other one can hold
-    // the two-sided error while the aimed one drops.
-    const bool aimed_uncovered = aim_uncovered;
-    const double aimed_before =
-        aimed_uncovered ? best.surface_to_medial_max : best.medial_to_surface_max;
-    const double aimed_after =
-        aimed_uncovered ? trial.surface_to_medial_max : trial.medial_to_surface_max;
-    const bool small_gain = aimed_after > (1.0 - options.min_gain) * aimed_before;
+    const bool small_gain = gained_little(aim_uncovered, best, trial, options.min_gain);
     best = std::move(trial);
     best_medial = medial;
     best_state = skeletonizer.state();
