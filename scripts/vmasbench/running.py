@@ -191,6 +191,20 @@ def parse_eval(stdout):
     return out
 
 
+def read_output(entry, result, parse, what):
+    """Adds to `entry` what `parse` reads from the standard output of a run (see run()), or the
+    run's or the parser's error; returns whether it read."""
+    if not result["ok"]:
+        entry["error"] = result["error"]
+        return False
+    try:
+        entry.update(parse(result["stdout"]))
+    except (ValueError, IndexError) as e:  # json.JSONDecodeError is a ValueError
+        entry["error"] = f"cannot read {what}: {e}"
+        return False
+    return True
+
+
 def evaluate(binary, shape, medial, timeout, errors_path=None, medial_errors_path=None):
     command = [binary, "eval", shape, medial, "--json"]
     if errors_path:
@@ -201,13 +215,7 @@ def evaluate(binary, shape, medial, timeout, errors_path=None, medial_errors_pat
     entry = {"command": " ".join(map(shlex.quote, command)), "seconds": result["seconds"]}
     if result["stderr"]:
         entry["stderr"] = result["stderr"]
-    if not result["ok"]:
-        entry["error"] = result["error"]
-        return entry
-    try:
-        entry.update(parse_eval(result["stdout"]))
-    except (ValueError, json.JSONDecodeError) as e:
-        entry["error"] = f"cannot read eval output: {e}"
+    read_output(entry, result, parse_eval, "eval output")
     return entry
 
 
@@ -230,13 +238,8 @@ def skeletonize(args, shape, out_ply, spheres, memory=False, extra=()):
              "stdout": result["stdout"], "stderr": result["stderr"]}
     if memory:
         entry["peak_rss_kb"] = result["peak_rss_kb"]
-    if not result["ok"]:
-        entry["error"] = result["error"]
-        return entry
-    try:
-        entry.update(parse_skeletonize_json(result["stdout"]))
-    except (ValueError, IndexError) as e:  # json.JSONDecodeError is a ValueError
-        entry["error"] = f"cannot read the JSON summary of vmas skeletonize: {e}"
+    if not read_output(entry, result, parse_skeletonize_json,
+                       "the JSON summary of vmas skeletonize"):
         return entry
     try:
         medial = vmas.read_medial(out_ply)  # refuses indices out of range and non-finite values
