@@ -33,19 +33,6 @@ constexpr auto kMeasureInterval = std::chrono::seconds(2);
 struct EditSession::Impl {
   Impl(Shape shape, const SkeletonizerOptions& options, int threads, FinishOptions finish);
   ~Impl();  // stops the worker
-  void remove(std::uint64_t key);
-  void split_at(int vertex);
-  void freeze(std::uint64_t key, bool frozen);
-  void set_target_spheres(int count);
-  void set_lambda(double lambda);
-  void change_target_spheres(int by);
-  void scale_lambda(double factor);
-  void undo();
-  void redo();
-  void pause(bool paused);
-  void finish();
-  EditSnapshot snapshot() const;
-  std::uint64_t wait_for_version(std::uint64_t version, int timeout_ms) const;
 
   struct Edit {
     enum class Kind {
@@ -149,56 +136,61 @@ void EditSession::Impl::enqueue(const Edit& edit) {
   changed_.notify_all();
 }
 
-void EditSession::Impl::remove(std::uint64_t key) { enqueue({Edit::Kind::Remove, key}); }
+void EditSession::remove(std::uint64_t key) { impl_->enqueue({Impl::Edit::Kind::Remove, key}); }
 
-void EditSession::Impl::split_at(int vertex) {
-  if (vertex < 0 || vertex >= skeletonizer_->shape().size())
+void EditSession::split_at(int vertex) {
+  if (vertex < 0 || vertex >= shape().size())
     throw InvalidArgument("no vertex with index " + std::to_string(vertex));
-  enqueue({Edit::Kind::Split, 0, vertex});
+  impl_->enqueue({Impl::Edit::Kind::Split, 0, vertex});
 }
 
-void EditSession::Impl::freeze(std::uint64_t key, bool frozen) {
-  enqueue({Edit::Kind::Freeze, key, frozen ? 1 : 0});
+void EditSession::freeze(std::uint64_t key, bool frozen) {
+  impl_->enqueue({Impl::Edit::Kind::Freeze, key, frozen ? 1 : 0});
 }
 
-void EditSession::Impl::set_target_spheres(int count) {
-  if (count < 1 || count > most_spheres_)
-    throw InvalidOption("count", "must be between 1 and " + std::to_string(most_spheres_) +
-                                       " (got " + std::to_string(count) + ")");
-  enqueue({Edit::Kind::Target, 0, count});
+void EditSession::set_target_spheres(int count) {
+  if (count < 1 || count > impl_->most_spheres_)
+    throw InvalidOption("count", "must be between 1 and " + std::to_string(impl_->most_spheres_) +
+                                     " (got " + std::to_string(count) + ")");
+  impl_->enqueue({Impl::Edit::Kind::Target, 0, count});
 }
 
-void EditSession::Impl::set_lambda(double lambda) {
+void EditSession::set_lambda(double lambda) {
   SkeletonizerOptions::check_lambda("lambda", lambda);
-  enqueue({Edit::Kind::Lambda, 0, 0, lambda});
+  impl_->enqueue({Impl::Edit::Kind::Lambda, 0, 0, lambda});
 }
 
-void EditSession::Impl::change_target_spheres(int by) { enqueue({Edit::Kind::TargetBy, 0, by}); }
+void EditSession::change_target_spheres(int by) {
+  impl_->enqueue({Impl::Edit::Kind::TargetBy, 0, by});
+}
 
-void EditSession::Impl::scale_lambda(double factor) {
+void EditSession::scale_lambda(double factor) {
   if (!(factor > 0.0 && factor <= SkeletonizerOptions::kMaxLambda))
     throw InvalidOption("lambda", "factor must be in (0, 1e6] (got " + std::to_string(factor) + ")");
-  enqueue({Edit::Kind::LambdaTimes, 0, 0, factor});
+  impl_->enqueue({Impl::Edit::Kind::LambdaTimes, 0, 0, factor});
 }
 
-void EditSession::Impl::undo() { enqueue({Edit::Kind::Undo}); }
+void EditSession::undo() { impl_->enqueue({Impl::Edit::Kind::Undo}); }
 
-void EditSession::Impl::redo() { enqueue({Edit::Kind::Redo}); }
+void EditSession::redo() { impl_->enqueue({Impl::Edit::Kind::Redo}); }
 
-void EditSession::Impl::pause(bool paused) { enqueue({Edit::Kind::Pause, 0, paused ? 1 : 0}); }
-
-void EditSession::Impl::finish() { enqueue({Edit::Kind::Finish}); }
-
-EditSnapshot EditSession::Impl::snapshot() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return published_;
+void EditSession::pause(bool paused) {
+  impl_->enqueue({Impl::Edit::Kind::Pause, 0, paused ? 1 : 0});
 }
 
-std::uint64_t EditSession::Impl::wait_for_version(std::uint64_t version, int timeout_ms) const {
-  std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
-                    [&] { return published_.version > version || stop_; });
-  return published_.version;
+void EditSession::finish() { impl_->enqueue({Impl::Edit::Kind::Finish}); }
+
+EditSnapshot EditSession::snapshot() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->published_;
+}
+
+std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_ms) const {
+  std::unique_lock<std::mutex> lock(impl_->mutex_);
+  impl_->changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] {
+    return impl_->published_.version > version || impl_->stop_;
+  });
+  return impl_->published_.version;
 }
 
 EditSession::Impl::Moment EditSession::Impl::moment() const {
@@ -421,21 +413,7 @@ EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int th
                          FinishOptions finish)
     : impl_(std::make_unique<Impl>(std::move(shape), options, threads, std::move(finish))) {}
 EditSession::~EditSession() = default;
-void EditSession::remove(std::uint64_t key) { impl_->remove(key); }
-void EditSession::split_at(int vertex) { impl_->split_at(vertex); }
-void EditSession::freeze(std::uint64_t key, bool frozen) { impl_->freeze(key, frozen); }
-void EditSession::set_target_spheres(int count) { impl_->set_target_spheres(count); }
-void EditSession::set_lambda(double lambda) { impl_->set_lambda(lambda); }
-void EditSession::change_target_spheres(int by) { impl_->change_target_spheres(by); }
-void EditSession::scale_lambda(double factor) { impl_->scale_lambda(factor); }
-void EditSession::undo() { impl_->undo(); }
-void EditSession::redo() { impl_->redo(); }
-void EditSession::pause(bool paused) { impl_->pause(paused); }
-void EditSession::finish() { impl_->finish(); }
-EditSnapshot EditSession::snapshot() const { return impl_->snapshot(); }
+
 const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
-std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_ms) const {
-  return impl_->wait_for_version(version, timeout_ms);
-}
 
 }  // namespace vmas
