@@ -4,6 +4,7 @@
 // documented in the README ("Editing a skeleton").
 #include <signal.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <unordered_map>
 
 #include "commands.hpp"
 #include "http_server.hpp"
@@ -52,8 +54,9 @@ constexpr auto kKeepAlive = std::chrono::milliseconds(1000);
 constexpr int kStreamPollMs = 50;  // longest wait for news in one call of an event stream
 // Pages open at once (each event stream holds a thread and a copy of the state it sent).
 constexpr int kMaxPages = 4;
-// Label changes sent as a list below this many; above, all labels are sent.
-constexpr std::size_t kMaxListedLabels = 4096;
+// Label changes are sent as a list while it is shorter than this many, or than a quarter of
+// the vertices (a listed change costs about four times a label of the full list).
+constexpr std::size_t kMinListedLabels = 4096;
 // With --exit-on-close: a reload (the page gone for a moment) must not stop the editor.
 constexpr auto kCloseGrace = std::chrono::seconds(3);
 
@@ -70,8 +73,53 @@ struct Sent {
   std::uint64_t version = 0;
   std::vector<std::array<int, 2>> edges;
   std::vector<std::array<int, 3>> faces;
+  std::vector<std::uint64_t> keys;
   std::vector<int> labels;
 };
+
+// Where each sphere the page knows went: its index in the new state, -1 when it is gone. Empty
+// when no sphere moved (then the labels need no renumbering).
+std::vector<int> renumbering(const std::vector<std::uint64_t>& before,
+                             const std::vector<std::uint64_t>& after) {
+  if (before == after) return {};
+  std::unordered_map<std::uint64_t, int> index_of;
+  for (std::size_t i = 0; i < after.size(); ++i) index_of[after[i]] = static_cast<int>(i);
+  std::vector<int> moved_to(before.size(), -1);
+  bool moved = false;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const auto found = index_of.find(before[i]);
+    if (found != index_of.end()) moved_to[i] = found->second;
+    moved = moved || moved_to[i] != static_cast<int>(i);
+  }
+  return moved ? moved_to : std::vector<int>{};
+}
+
+// Labels as the page holds them after this message: all of them when many changed, else a
+// renumbering of the spheres (a removal shifts the ids above it) and the vertices whose sphere
+// changed beyond it.
+void add_labels(const EditSnapshot& s, Sent& sent, json& message) {
+  if (sent.labels.size() != s.labels.size()) {
+    message["labels"] = sent.labels = s.labels;
+    return;
+  }
+  const std::vector<int> moved_to = renumbering(sent.keys, s.keys);
+  if (!moved_to.empty()) {
+    message["renumber"] = moved_to;
+    for (int& label : sent.labels)
+      if (label >= 0) label = label < static_cast<int>(moved_to.size()) ? moved_to[label] : -1;
+  }
+  const std::size_t most_listed = std::max(kMinListedLabels, s.labels.size() / 4);
+  json changes = json::array();
+  for (std::size_t v = 0; v < s.labels.size() && changes.size() <= most_listed; ++v)
+    if (s.labels[v] != sent.labels[v]) changes.push_back({v, s.labels[v]});
+  if (changes.size() > most_listed) {
+    message.erase("renumber");
+    message["labels"] = sent.labels = s.labels;
+  } else if (!changes.empty()) {
+    message["label_changes"] = changes;
+    for (const auto& change : changes) sent.labels[change[0].get<std::size_t>()] = change[1];
+  }
+}
 
 // What preparation found, for the page's first message: shown once, it does not change.
 json preparation_summary(const Result& prepared, int points) {
@@ -115,21 +163,10 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"spheres", spheres}};
   if (sent.version == 0 || s.mesh.edges != sent.edges) message["edges"] = sent.edges = s.mesh.edges;
   if (sent.version == 0 || s.mesh.faces != sent.faces) message["faces"] = sent.faces = s.mesh.faces;
-  // All labels travel in the event itself when many changed: fetched apart, they would be of
-  // another version than the changes that follow.
-  if (sent.labels.size() != s.labels.size()) {
-    message["labels"] = sent.labels = s.labels;
-  } else {
-    json changes = json::array();
-    for (std::size_t v = 0; v < s.labels.size() && changes.size() <= kMaxListedLabels; ++v)
-      if (s.labels[v] != sent.labels[v]) changes.push_back({v, s.labels[v]});
-    if (changes.size() > kMaxListedLabels) {
-      message["labels"] = sent.labels = s.labels;
-    } else if (!changes.empty()) {
-      message["label_changes"] = changes;
-      for (const auto& change : changes) sent.labels[change[0].get<std::size_t>()] = change[1];
-    }
-  }
+  // Labels travel in the event itself: fetched apart, they would be of another version than the
+  // changes that follow.
+  add_labels(s, sent, message);
+  sent.keys = s.keys;
   if (sent.version == 0) message["preparation"] = preparation;
   sent.version = s.version;
   return message;
@@ -367,6 +404,15 @@ int edit_command(int argc, const char* const* argv) {
     const EditSnapshot s = session.snapshot();
     res.content_type = "application/octet-stream";
     res.body.assign(reinterpret_cast<const char*>(s.labels.data()), s.labels.size() * sizeof(int));
+    res.headers.emplace_back("X-Vmas-Version", std::to_string(s.version));
+  });
+  // The heat map's distances: computed on request, from the latest state, in this connection's
+  // thread (the optimisation goes on meanwhile).
+  server.route("GET", "/api/errors", [&](const HttpRequest&, HttpResponse& res) {
+    const EditSnapshot s = session.snapshot();
+    const std::vector<float> errors = session.vertex_errors(s.mesh);
+    res.content_type = "application/octet-stream";
+    res.body.assign(reinterpret_cast<const char*>(errors.data()), errors.size() * sizeof(float));
     res.headers.emplace_back("X-Vmas-Version", std::to_string(s.version));
   });
   server.route("GET", "/api/events", [&](const HttpRequest&, HttpResponse& res) {

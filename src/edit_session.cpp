@@ -8,6 +8,7 @@
 #include <thread>
 #include <string>
 
+#include "eval/envelope.hpp"
 #include "vmas/error.hpp"
 
 #ifdef _OPENMP
@@ -415,5 +416,14 @@ EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int th
 EditSession::~EditSession() = default;
 
 const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
+
+std::vector<float> EditSession::vertex_errors(const MedialMesh& mesh) const {
+  const Shape& s = shape();
+  const std::vector<double> distances = envelope_distances(mesh, s.points);
+  std::vector<float> relative(distances.size());
+  for (std::size_t v = 0; v < distances.size(); ++v)
+    relative[v] = static_cast<float>(distances[v] / s.diagonal);
+  return relative;
+}
 
 }  // namespace vmas

@@ -9,7 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <cstdio>
 #include <functional>
@@ -251,6 +253,83 @@ TEST_F(EditServer, RelativeEditsAddUpAndSavingWithoutOutputDownloads) {
   write("downloaded.ply", download->body);
   EXPECT_EQ(read_medial_mesh(path("downloaded.ply")).spheres.size(),
             reply["spheres"].get<std::size_t>());
+}
+
+// One event stream over a removal: the page is sent where each sphere went, not every label,
+// and its labels, kept up from the first event's by renumberings and changes, end as the
+// server's. The error map's distances are the surface -> medial distances of those vertices.
+TEST_F(EditServer, ARemovalSendsARenumberingAndTheErrorMapMeasuresEachVertex) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 6000, 59);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  write_surface(path("capsule.xyz"), cloud);
+  start({path("capsule.xyz"), "--spheres", "8", "--threads", "1"});
+
+  std::vector<int> labels;  // as a page holds them
+  bool removal_sent = false, renumbered = false, resent_all = false, paused_sent = false;
+  std::string buffer;
+  httplib::Client events("127.0.0.1", port_);
+  events.set_read_timeout(30, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  events.Get(api("/api/events").c_str(), [&](const char* data, std::size_t size) {
+    buffer.append(data, size);
+    for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
+      const std::string event = buffer.substr(0, end);
+      buffer.erase(0, end + 2);
+      if (event.rfind("data: ", 0) != 0) continue;
+      const json state = json::parse(event.substr(6));
+      if (state.contains("labels")) {
+        labels = state["labels"].get<std::vector<int>>();
+        resent_all = removal_sent;
+      }
+      if (state.contains("renumber")) {
+        const std::vector<int> moved_to = state["renumber"].get<std::vector<int>>();
+        for (int& label : labels)
+          if (label >= 0) label = moved_to.at(label);
+        renumbered = renumbered || removal_sent;
+      }
+      for (const auto& change : state.value("label_changes", json::array()))
+        labels.at(change[0].get<std::size_t>()) = change[1];
+      if (!removal_sent && state["spheres"].size() == 8 && state["iteration"].get<int>() > 40) {
+        // Not the last sphere: the ones after it shift down.
+        EXPECT_EQ(edit({{"op", "remove"}, {"key", state["keys"][1]}})->status, 200);
+        removal_sent = true;
+      } else if (removal_sent && !paused_sent && state["spheres"].size() == 7) {
+        EXPECT_EQ(edit({{"op", "pause"}, {"paused", true}})->status, 200);
+        paused_sent = true;
+      } else if (paused_sent && state["paused"].get<bool>()) {
+        const auto latest = client_->Get(api("/api/labels").c_str());
+        if (latest->get_header_value("X-Vmas-Version") != std::to_string(state["version"].get<std::uint64_t>()))
+          continue;  // a newer state is on its way
+        std::vector<int> server(latest->body.size() / sizeof(int));
+        std::memcpy(server.data(), latest->body.data(), latest->body.size());
+        EXPECT_EQ(labels, server);
+        return false;
+      }
+    }
+    return std::chrono::steady_clock::now() < deadline;
+  });
+  ASSERT_TRUE(paused_sent) << "the removal never showed";
+  EXPECT_TRUE(renumbered);
+  EXPECT_FALSE(resent_all);
+  for (int label : labels) EXPECT_TRUE(label >= 0 && label < 7) << label;
+
+  // The error map after a finish: one distance per vertex, none above the measured two-sided
+  // error (its surface side is the largest of these), the largest close to a sphere's size.
+  ASSERT_EQ(edit({{"op", "finish"}})->status, 200);
+  const json finished = state_when([](const json& s) { return s["finished"].get<bool>(); });
+  const auto map = client_->Get(api("/api/errors").c_str());
+  ASSERT_EQ(map->status, 200);
+  ASSERT_EQ(map->body.size(), labels.size() * sizeof(float));
+  std::vector<float> errors(labels.size());
+  std::memcpy(errors.data(), map->body.data(), map->body.size());
+  float largest = 0.0f;
+  for (float e : errors) {
+    ASSERT_TRUE(std::isfinite(e) && e >= 0.0f) << e;
+    largest = std::max(largest, e);
+  }
+  EXPECT_GT(largest, 0.0f);
+  EXPECT_LE(100.0 * largest, finished["error_after_finish_percent"].get<double>() + 1e-3);
 }
 
 TEST_F(EditServer, SeveralPagesSeeOneStateAndClosingTheLastStopsWithExitOnClose) {

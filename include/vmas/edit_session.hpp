@@ -97,6 +97,9 @@ class EditSession {
 
   EditSnapshot snapshot() const;
   const Shape& shape() const;
+  // The surface -> medial distance of every shape vertex to `mesh` (a snapshot's), relative to
+  // the diagonal: vmas eval's per-vertex error, for a heat map. Computed in the calling thread.
+  std::vector<float> vertex_errors(const MedialMesh& mesh) const;
   // Waits until a snapshot newer than `version` is published, or `timeout_ms` passes; returns
   // the latest snapshot's version.
   std::uint64_t wait_for_version(std::uint64_t version, int timeout_ms) const;

@@ -370,8 +370,9 @@ std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, dou
 std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points) {
   const internal::Envelope envelope(medial);
   std::vector<double> distances(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    distances[i] = envelope.boundary_distance(points[i]);
+  const auto count = static_cast<std::ptrdiff_t>(points.size());
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] = envelope.boundary_distance(points[i]);
   return distances;
 }
 
