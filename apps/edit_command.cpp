@@ -361,8 +361,9 @@ int edit_command(int argc, const char* const* argv) {
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
-  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads,
-                      {std::move(prepared.surface), run_values.options.refine});
+  // Finishing an untouched session also runs vmas skeletonize's starts (and keeps the better).
+  const FinishOptions finish = finish_as_skeletonize_does(prepared, run_values.options);
+  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads, finish);
   const std::string shape = shape_bytes(session.shape(), faces, frame);
 
   // Every request needs the token (query or X-Vmas-Token header); a request from another site's

@@ -61,6 +61,7 @@ struct EditSession::Impl {
   bool apply_one(const Edit& edit);  // apply() without the history
   void apply_target(int count);  // worker thread: the count target, reached at once when fewer
   void apply_finish();           // worker thread
+  void adopt_fresh_run_if_better();  // worker thread, in apply_finish()
   double measure();              // worker thread: the error now, relative to the diagonal
   // What undo() brings back: the skeleton and the targets of a moment.
   struct Moment {
@@ -83,6 +84,7 @@ struct EditSession::Impl {
   std::unique_ptr<Evaluator> evaluator_;  // worker's, built by the first finish
   int finishes_ = 0;                      // worker's
   bool finished_ = false;
+  bool hand_edited_ = false;  // worker's: a sphere split, removed or frozen, or an undo/redo
   double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
   double measured_error_ = 0.0;
   int measured_at_iteration_ = -1;
@@ -213,6 +215,7 @@ bool EditSession::Impl::apply(const Edit& edit) {
     auto& to = edit.kind == Edit::Kind::Undo ? redo_ : undo_;
     if (from.empty()) return false;
     finished_ = false;
+    hand_edited_ = true;
     to.push_back(moment());
     go_back_to(from.back());
     from.pop_back();
@@ -222,6 +225,8 @@ bool EditSession::Impl::apply(const Edit& edit) {
   Moment before = moment();
   if (!apply_one(edit)) return false;  // nothing to take back
   if (edit.kind != Edit::Kind::Finish) finished_ = false;
+  hand_edited_ = hand_edited_ || edit.kind == Edit::Kind::Remove ||
+                 edit.kind == Edit::Kind::Split || edit.kind == Edit::Kind::Freeze;
   undo_.push_back(std::move(before));
   if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
   redo_.clear();
@@ -317,11 +322,33 @@ void EditSession::Impl::apply_finish() {
     s.restore(start);
     error_after_finish_ = error_before_finish_;
   }
+  if (finish_options_.fresh_run && !hand_edited_) adopt_fresh_run_if_better();
   ++finishes_;
   finished_ = true;
   paused_ = true;  // steps would undo the final refits
   measured_error_ = error_after_finish_;
   measured_at_iteration_ = iteration_;
+}
+
+void EditSession::Impl::adopt_fresh_run_if_better() {
+  Skeletonizer& s = *skeletonizer_;
+  const ProgressCallback until_stopped = [this](const Progress&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !stop_;
+  };
+  BestStart fresh;
+  try {
+    fresh = finish_options_.fresh_run(s.options(), until_stopped);
+  } catch (const std::exception&) {
+    return;  // stopped, or it could not run (the live skeleton stays: it is a result)
+  }
+  if (!(fresh.measured_error < error_after_finish_)) return;
+  try {
+    s.restore(fresh.state);
+  } catch (const InvalidArgument&) {
+    return;  // not a state of this shape: a callback run on another
+  }
+  error_after_finish_ = fresh.measured_error;
 }
 
 void EditSession::Impl::publish(double steps_per_second) {
@@ -416,6 +443,18 @@ EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int th
 EditSession::~EditSession() = default;
 
 const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
+
+FinishOptions finish_as_skeletonize_does(const PreparedShape& prepared, const Options& options) {
+  FinishOptions finish{prepared.surface, options.refine, {}};
+  auto fresh = std::make_shared<const PreparedShape>(prepared);
+  finish.fresh_run = [fresh, options](const SkeletonizerOptions& now,
+                                      const ProgressCallback& progress) {
+    PreparedShape copy = *fresh;
+    copy.run = now;
+    return best_start(copy, options, progress);
+  };
+  return finish;
+}
 
 std::vector<float> EditSession::vertex_errors(const MedialMesh& mesh) const {
   const Shape& s = shape();

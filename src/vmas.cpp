@@ -204,6 +204,7 @@ struct Pass {
   Result result;
   MedialMesh medial;
   SurfaceInput surface;
+  SkeletonizerState state;  // the skeletonizer's at the end
 };
 
 // `prepared` carried into its working frame turned `turn` times: another start of the
@@ -287,6 +288,7 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
 
   result.seconds += skeletonizer.times();
   pass.surface = std::move(prepared.surface);
+  pass.state = skeletonizer.state();
   return pass;
 }
 
@@ -300,15 +302,14 @@ int thread_budget(int threads) {
 #endif
 }
 
-// The input prepared once, and run_pass() on it in each of options.starts turns of the working
-// frame: the pass with the least measured error (the first among equals) among those whose
-// skeleton has no more pieces than the input. With a thread for
+// run_pass() on `prepared` in each of options.starts turns of the working frame: the pass with
+// the least measured error (the first among equals) among those whose skeleton has no more
+// pieces than the input. With a thread for
 // each, the starts run side by side (the optimisation's serial parts leave cores idle: two starts
 // took 1.3-1.5 times one start's time, against 2 one after the other); the calling thread runs
 // the first and reports its progress, and the others stop when it is cancelled.
-Pass best_start(const SurfaceInput& input, const Options& options,
-                const ProgressCallback& progress) {
-  const PreparedShape prepared = prepare_with_progress(input, options, progress);
+Pass best_of_starts(const PreparedShape& prepared, std::size_t input_points,
+                    const Options& options, const ProgressCallback& progress) {
   const int threads = thread_budget(options.threads);
   const bool side_by_side = options.starts > 1 && threads >= options.starts;
   const int threads_per_start = side_by_side ? threads / options.starts : threads;
@@ -321,7 +322,7 @@ Pass best_start(const SurfaceInput& input, const Options& options,
     const ThreadCount count(threads_per_start);
     const auto start_time = Clock::now();
     Run run{run_pass(start == 0 ? prepared : turned_copy(prepared, start, options),
-                     input.points.size(), options, report)};
+                     input_points, options, report)};
     run.seconds = seconds_since(start_time);
     return run;
   };
@@ -367,6 +368,13 @@ Pass best_start(const SurfaceInput& input, const Options& options,
   return kept;
 }
 
+// The input prepared once, and the best of its starts.
+Pass best_start(const SurfaceInput& input, const Options& options,
+                const ProgressCallback& progress) {
+  return best_of_starts(prepare_with_progress(input, options, progress), input.points.size(),
+                        options, progress);
+}
+
 // The smoothing a noise estimate calls for can also erase what it should keep: parts of a cloud
 // thinner than the noise merge, normals flip, and balls grow out of the shape. Such a skeleton
 // lies far from the data, so a second pass skeletonizes the points as they are, and the
@@ -406,6 +414,24 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput
 }
 
 }  // namespace
+
+BestStart best_start(const PreparedShape& prepared, const Options& options,
+                     const ProgressCallback& progress) {
+  options.validate();
+  const ThreadCount threads(options.threads);
+  // (The passes' labels of the input's points are not used: any count that holds them will do.)
+  const std::vector<int>& kept = prepared.result.clean.kept;
+  Pass pass = best_of_starts(prepared, kept.empty() ? 0 : kept.back() + 1, options, progress);
+  // A turned start's spheres, back into the frame of `prepared` (the turn is a rotation).
+  const Frame& kept_frame = pass.result.prepare.frame;
+  const Frame& frame = prepared.result.prepare.frame;
+  for (Sphere& sphere : pass.state.spheres) {
+    sphere.center = frame.to_working(kept_frame.to_input(sphere.center));
+    sphere.radius *= kept_frame.scale / frame.scale;
+  }
+  pass.state.keys.clear();
+  return {std::move(pass.state), pass.result.measured_error};
+}
 
 Result skeletonize(SurfaceInput input, const Options& options, const ProgressCallback& progress) {
   options.validate();

@@ -11,6 +11,7 @@
 #include "test_shapes.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/error.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {
@@ -251,6 +252,50 @@ TEST(EditSession, FinishRefitsAndRefinesKeepsFrozenSpheresAndPauses) {
   EXPECT_EQ(undone.keys, frozen.keys);
   for (std::size_t i = 0; i < frozen.spheres.size(); ++i)
     EXPECT_EQ(undone.spheres[i].center, frozen.spheres[i].center);
+}
+
+// Finishing a session no hand has touched also runs vmas skeletonize's starts (with the count
+// of that moment) and keeps the better; once a sphere was edited by hand, it does not.
+TEST(EditSession, FinishingAnUntouchedSessionIsAtLeastAsGoodAsAFreshRun) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 4000, 47);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  Options options;
+  options.run.target.spheres = 8;
+  options.threads = 1;
+  const PreparedShape prepared = prepare_shape(cloud, options);
+  FinishOptions finish = finish_as_skeletonize_does(prepared, options);
+  int calls = 0, fresh_count = 0;
+  double fresh_error = -1.0;
+  const auto fresh_run = finish.fresh_run;
+  finish.fresh_run = [&](const SkeletonizerOptions& now, const ProgressCallback& progress) {
+    ++calls;
+    fresh_count = now.target.count();
+    const BestStart fresh = fresh_run(now, progress);
+    fresh_error = fresh.measured_error;
+    return fresh;
+  };
+  EditSession session(prepared.shape, prepared.run, 1, finish);
+  settled(session, 8);
+  session.change_target_spheres(1);  // the count may change: the fresh run has the new one
+  settled(session, 9);
+  session.finish();
+  const EditSnapshot done = wait_until(session, [](const EditSnapshot& s) { return s.finishes == 1; });
+  ASSERT_EQ(done.finishes, 1);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(fresh_count, 9);
+  ASSERT_EQ(done.spheres.size(), 9u);
+  EXPECT_GT(fresh_error, 0.0);
+  EXPECT_LE(done.error_after_finish, fresh_error);
+  EXPECT_LE(done.error_after_finish, done.error_before_finish);
+
+  session.remove(done.keys[0]);
+  settled(session, 8);
+  session.finish();
+  const EditSnapshot again = wait_until(session, [](const EditSnapshot& s) { return s.finishes == 2; });
+  ASSERT_EQ(again.finishes, 2);
+  EXPECT_EQ(calls, 1);  // edited by hand: the user's spheres are finished, not replaced
 }
 
 }  // namespace

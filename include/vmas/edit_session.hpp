@@ -10,11 +10,13 @@
 // Skeletonizer::run (Skeletonizer::advance), restarted by every edit, and goes on after it is
 // done, more slowly, so that edits re-settle the skeleton.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
 #include "vmas/refine.hpp"
 #include "vmas/skeletonizer.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 
@@ -53,7 +55,18 @@ struct FinishOptions {
   // empty: the shape's own points and normals.
   SurfaceInput surface;
   RefineOptions refine;
+  // A fresh run for a session whose spheres no hand has touched (none split, removed or frozen,
+  // nothing undone; the count and λ may have changed): called by finish() with the session's
+  // options of that moment, e.g. vmas::best_start on the prepared shape, so that such a finish
+  // gives what vmas skeletonize gives. finish() keeps whichever of its state and the finished
+  // live skeleton measures better. Empty: none. The callback may throw Cancelled when the
+  // progress callback it is given returns false (the session is being destroyed).
+  std::function<BestStart(const SkeletonizerOptions&, const ProgressCallback&)> fresh_run;
 };
+
+// What `vmas edit` finishes with: the surface of `prepared`, options.refine, and for an untouched
+// session vmas::best_start on a copy of `prepared` (held by the callback).
+FinishOptions finish_as_skeletonize_does(const PreparedShape& prepared, const Options& options);
 
 class EditSession {
  public:

@@ -107,6 +107,18 @@ struct PreparedShape {
 };
 PreparedShape prepare_shape(SurfaceInput input, const Options& options = {});
 
+// What skeletonize() keeps of the runs on a prepared shape: its starts (options.starts, side by
+// side), each with the final refits and the refinement, and the best (without the check of the
+// smoothing, which needs the input). The state of a Skeletonizer on `prepared.shape` (in its
+// frame, whichever start it came from; new keys) and its measured two-sided error / diagonal.
+// Runs with prepared.run (options.run is not read). Throws as skeletonize() does.
+struct BestStart {
+  SkeletonizerState state;
+  double measured_error = 0.0;
+};
+BestStart best_start(const PreparedShape& prepared, const Options& options,
+                     const ProgressCallback& progress = {});
+
 // Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed), taken
 // by value: std::move a surface you no longer need to spare a copy of a big scan.
 // `progress` is called once while preparing and after every step and final refit, from the

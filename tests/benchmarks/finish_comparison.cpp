@@ -4,7 +4,8 @@
 // has run for 4 s, and of that skeleton after EditSession::finish(). Prints figures; judges
 // nothing.
 //
-//   build/vmas_finish_comparison [MODEL ...]
+//   build/vmas_finish_comparison [MODEL ... | FILE:SPHERES ...]
+// e.g. FILE:SPHERES = armadillo_1000000.ply:200 (scripts/bench --scaling writes such clouds).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -32,16 +33,16 @@ double percent(const SurfaceInput& input, const MedialMesh& medial) {
   return result.percent(result.hausdorff);
 }
 
-void compare(const std::string& model, int spheres) {
-  const SurfaceInput input = read_surface(test::shared_data("meshes/" + model + ".off"));
+void compare(const std::string& model, const std::string& file, int spheres) {
+  const SurfaceInput input = read_surface(file);
   Options options;
   options.run.target.spheres = spheres;
   options.threads = 2;
   const double cli = percent(input, skeletonize(input, options).medial_mesh);
   PreparedShape prepared = prepare_shape(input, options);
   const Frame frame = prepared.result.prepare.frame;
-  EditSession session(std::move(prepared.shape), prepared.run, options.threads,
-                      {std::move(prepared.surface), options.refine});
+  const FinishOptions finish = finish_as_skeletonize_does(prepared, options);
+  EditSession session(std::move(prepared.shape), prepared.run, options.threads, finish);
   const auto start = std::chrono::steady_clock::now();
   EditSnapshot s = session.snapshot();
   while (static_cast<int>(s.spheres.size()) < spheres ||
@@ -74,12 +75,18 @@ int main(int argc, char** argv) {
     for (const auto& [model, spheres] : kPaperSpheres) models.push_back(model);
   std::printf("ε %% of the diagonal (vmas eval's measure); spheres: the paper's count\n");
   for (const std::string& model : models) {
+    const std::size_t colon = model.rfind(':');
+    if (colon != std::string::npos) {
+      compare(std::filesystem::path(model.substr(0, colon)).filename().string(),
+              model.substr(0, colon), std::stoi(model.substr(colon + 1)));
+      continue;
+    }
     const auto found = kPaperSpheres.find(model);
     if (found == kPaperSpheres.end()) {
       std::fprintf(stderr, "unknown model %s\n", model.c_str());
       return 1;
     }
-    compare(model, found->second);
+    compare(model, test::shared_data("meshes/" + model + ".off"), found->second);
   }
   return 0;
 }
