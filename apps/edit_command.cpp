@@ -219,10 +219,12 @@ int integer_field(const json& edit, const char* name) {
   return static_cast<int>(value.get<std::int64_t>());
 }
 
-// The skeleton "save" gave last, for /api/download: its file name and bytes.
+// The skeleton "save" gave last, for /api/download: its file name and bytes, and the mesh for
+// a download in the other format.
 struct Saved {
   std::mutex mutex;
   std::string name, bytes;
+  MedialMesh mesh;
 };
 
 // Runs finish() and waits until the worker has done it; false when it was dropped.
@@ -282,6 +284,7 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
       const std::lock_guard<std::mutex> lock(saved.mutex);
       saved.name = std::filesystem::path(name).filename().string();
       saved.bytes = std::move(bytes);
+      saved.mesh = mesh;
     }
     json reply = {{"ok", true}, {"spheres", s.spheres.size()}, {"name", saved.name},
                   {"finished", s.finished}};
@@ -465,12 +468,19 @@ int edit_command(int argc, const char* const* argv) {
       res.json_error(400, e.what());
     }
   });
-  server.route("GET", "/api/download", [&](const HttpRequest&, HttpResponse& res) {
+  // ?format=ply or ?format=ma: the saved skeleton in that format (named after the saved file).
+  server.route("GET", "/api/download", [&](const HttpRequest& req, HttpResponse& res) {
     const std::lock_guard<std::mutex> lock(saved.mutex);
     if (saved.bytes.empty()) return res.json_error(404, "nothing saved yet");
-    res.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + saved.name + "\"");
+    std::filesystem::path name = saved.name;
+    const auto format = req.query.find("format");
+    if (format != req.query.end() && format->second != "ply" && format->second != "ma")
+      return res.json_error(400, "format must be ply or ma (got '" + format->second + "')");
+    const bool converted = format != req.query.end() && "." + format->second != name.extension();
+    if (converted) name.replace_extension("." + format->second);
+    res.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name.string() + "\"");
     res.content_type = "application/octet-stream";
-    res.body = saved.bytes;
+    res.body = converted ? medial_mesh_file(name.string(), saved.mesh) : saved.bytes;
   });
 
   std::atomic<bool> stopping{false};

@@ -253,6 +253,18 @@ TEST_F(EditServer, RelativeEditsAddUpAndSavingWithoutOutputDownloads) {
   write("downloaded.ply", download->body);
   EXPECT_EQ(read_medial_mesh(path("downloaded.ply")).spheres.size(),
             reply["spheres"].get<std::size_t>());
+  // The same skeleton as a .ma file on request; no other format.
+  const auto ma = client_->Get(api("/api/download").append("&format=ma").c_str());
+  ASSERT_EQ(ma->status, 200);
+  EXPECT_NE(ma->get_header_value("Content-Disposition").find("ball_skeleton.ma"), std::string::npos);
+  write("downloaded.ma", ma->body);
+  const MedialMesh from_ply = read_medial_mesh(path("downloaded.ply"));
+  const MedialMesh from_ma = read_medial_mesh(path("downloaded.ma"));
+  ASSERT_EQ(from_ma.spheres.size(), from_ply.spheres.size());
+  EXPECT_EQ(from_ma.edges, from_ply.edges);
+  for (std::size_t i = 0; i < from_ma.spheres.size(); ++i)
+    EXPECT_NEAR(from_ma.spheres[i].radius, from_ply.spheres[i].radius, 1e-6);
+  EXPECT_EQ(client_->Get(api("/api/download").append("&format=obj").c_str())->status, 400);
 }
 
 // One event stream over a removal: the page is sent where each sphere went, not every label,

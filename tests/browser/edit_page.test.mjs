@@ -222,7 +222,7 @@ async function main() {
     'shift-click selects two spheres and the freeze button freezes both',
     'shift-drag selects the spheres in a box, the freeze button freezes them; undo, redo',
     'finish refines and pauses', 'E colours the points by their distance to the skeleton, and back',
-    'W saves the skeleton and downloads it',
+    'W saves the skeleton and downloads it', 'the .ma button downloads the skeleton as a .ma file',
     '? shows the help overlay and hides it again', 'the panel folds away and back',
     'P, M and I toggle points, medial mesh and surface', 'the sliders set the count and λ',
     'the screenshot button downloads a PNG',
@@ -659,6 +659,23 @@ async function main() {
     if (!message.includes(`saved ${shown} spheres`)) fail(`message after saving: '${message}'`);
     noPageErrors();
     return `${vertices} vertices in the PLY header, ${shown} spheres shown, finished at ${reply.error_percent.toFixed(2)} %; download identical`;
+  });
+
+  await check('the .ma button downloads the skeleton as a .ma file', async () => {
+    const download = page.waitForEvent('download', { timeout: WAIT_MS });
+    await page.click('#save-ma');
+    const file = await download;
+    if (file.suggestedFilename() !== 'saved.ma') fail(`download named '${file.suggestedFilename()}', not saved.ma`);
+    const target = path.join(tmp, 'downloaded.ma');
+    await file.saveAs(target);
+    // A .ma file: 'nv ne nf', then a 'v x y z r' line per sphere.
+    const lines = fs.readFileSync(target, 'latin1').split('\n');
+    const [nv] = lines[0].trim().split(/\s+/).map(Number);
+    const spheres = lines.filter((l) => l.startsWith('v ')).length;
+    const shown = sphereCount(await statusText());
+    if (nv !== shown || spheres !== shown) fail(`saved.ma says ${nv} spheres and has ${spheres} 'v' lines; ${shown} shown`);
+    noPageErrors();
+    return `${spheres} spheres`;
   });
 
   // --- the help overlay, the panel's fold, the toggles, the screenshot button ------------------
