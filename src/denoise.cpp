@@ -131,35 +131,60 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   return inliers;
 }
 
-// RMS distance of `points[indices]` to their least-squares quadric height field over the PCA
-// plane, with the six fitted coefficients taken out of the degrees of freedom. NaN when the
-// neighbourhood is degenerate.
-double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>& indices) {
-  const int count = static_cast<int>(indices.size());
+// The least-squares quadric height field over the PCA plane of points[indices]: a curved
+// neighbourhood's surface (a sphere's cap, a finger's tip), which a plane would miss.
+struct QuadricFit {
+  bool valid = false;
+  Vec3 centroid, u, v, normal;
+  Eigen::Matrix<double, 6, 1> coefficients;
+  double residual_squares = 0.0;  // summed over the fitted points
+
+  static Eigen::Matrix<double, 6, 1> terms(double x, double y) {
+    Eigen::Matrix<double, 6, 1> t;
+    t << 1.0, x, y, x * x, x * y, y * y;
+    return t;
+  }
+  // Distance of p from the quadric along the plane's normal.
+  double offset(const Vec3& p) const {
+    const Vec3 d = p - centroid;
+    return std::abs(d.dot(normal) - coefficients.dot(terms(d.dot(u), d.dot(v))));
+  }
+};
+
+QuadricFit fit_quadric(const std::vector<Vec3>& points, const std::vector<int>& indices) {
+  QuadricFit quadric;
   const internal::PrincipalAxes fit = internal::principal_axes(points, indices);
-  if (!fit.valid) return std::numeric_limits<double>::quiet_NaN();
-  const Vec3& centroid = fit.centroid;
-  const Vec3 normal = fit.normal();
-  const Vec3 u = fit.axes.col(2);
-  const Vec3 v = fit.axes.col(1);
+  if (!fit.valid) return quadric;
+  quadric.centroid = fit.centroid;
+  quadric.normal = fit.normal();
+  quadric.u = fit.axes.col(2);
+  quadric.v = fit.axes.col(1);
   Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
   double height_squares = 0.0;
   for (int i : indices) {
-    const Vec3 d = points[i] - centroid;
-    const double x = d.dot(u), y = d.dot(v), h = d.dot(normal);
-    Eigen::Matrix<double, 6, 1> terms;
-    terms << 1.0, x, y, x * x, x * y, y * y;
-    normal_matrix += terms * terms.transpose();
-    rhs += h * terms;
+    const Vec3 d = points[i] - quadric.centroid;
+    const double h = d.dot(quadric.normal);
+    const Eigen::Matrix<double, 6, 1> t = QuadricFit::terms(d.dot(quadric.u), d.dot(quadric.v));
+    normal_matrix += t * t.transpose();
+    rhs += h * t;
     height_squares += h * h;
   }
   const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver(normal_matrix);
-  if (solver.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
-  const Eigen::Matrix<double, 6, 1> coefficients = solver.solve(rhs);
+  if (solver.info() != Eigen::Success) return quadric;
+  quadric.coefficients = solver.solve(rhs);
   // Sum of squared residuals of the least-squares solution: hᵀh − cᵀ(Pᵀh).
-  const double residual_squares = std::max(height_squares - coefficients.dot(rhs), 0.0);
-  return std::sqrt(residual_squares / (count - 6));
+  quadric.residual_squares = std::max(height_squares - quadric.coefficients.dot(rhs), 0.0);
+  quadric.valid = true;
+  return quadric;
+}
+
+// RMS distance of `points[indices]` to their quadric (fit_quadric), with the six fitted
+// coefficients taken out of the degrees of freedom. NaN when the neighbourhood is degenerate.
+double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>& indices) {
+  const QuadricFit quadric = fit_quadric(points, indices);
+  if (!quadric.valid) return std::numeric_limits<double>::quiet_NaN();
+  return std::sqrt(quadric.residual_squares / (static_cast<double>(indices.size()) - 6.0));
 }
 
 // Points moved to their centroid, in float: PCL computes in float, and large coordinates (far
@@ -285,8 +310,9 @@ namespace {
 
 // A flagged point stays when it continues the sampling of its nearest neighbour j that is kept,
 // only more sparsely: within kNearReach × m_j (j's mean distance to its neighbours), or within
-// kFarReach × m_j and kOffPlane × m_j of the plane through j's neighbourhood. A stray's nearest
-// kept point is the surface below it, and it lies off that surface's plane.
+// kFarReach × m_j and kOffPlane × m_j of the surface through j's neighbourhood (its quadric: at
+// a curved tip a plane would leave the sampling's own sparse points off it). A stray's nearest
+// kept point is the surface below it, and it lies off that surface.
 constexpr double kNearReach = 1.0, kFarReach = 2.0, kOffPlane = 0.3;
 // A sparse part is kept from its edge inwards (its inner points may have only flagged
 // neighbours), for at most this many rounds; strays lie several spacings apart and never
@@ -335,9 +361,8 @@ std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::v
     if (gap > kFarReach * reach) return false;
     std::vector<int> around = neighbours_of(j);
     around.push_back(j);
-    const internal::PrincipalAxes plane = internal::principal_axes(points, around);
-    return plane.valid &&
-           std::abs((points[p] - plane.centroid).dot(plane.normal())) <= kOffPlane * reach;
+    const QuadricFit surface = fit_quadric(points, around);
+    return surface.valid && surface.offset(points[p]) <= kOffPlane * reach;
   };
   std::vector<int> result = inliers;
   for (int round = 0; round < kSparseRounds; ++round) {
