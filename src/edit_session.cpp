@@ -446,12 +446,12 @@ const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); 
 
 FinishOptions finish_as_skeletonize_does(const PreparedShape& prepared, const Options& options) {
   FinishOptions finish{prepared.surface, options.refine, {}};
-  auto fresh = std::make_shared<const PreparedShape>(prepared);
+  // Held by the callback, which only the session's worker calls (one finish at a time).
+  auto fresh = std::make_shared<PreparedShape>(prepared);
   finish.fresh_run = [fresh, options](const SkeletonizerOptions& now,
                                       const ProgressCallback& progress) {
-    PreparedShape copy = *fresh;
-    copy.run = now;
-    return best_start(copy, options, progress);
+    fresh->run = now;
+    return best_start(*fresh, options, progress);
   };
   return finish;
 }

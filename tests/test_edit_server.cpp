@@ -77,11 +77,12 @@ class EditServer : public test::CliTest {
     return client_->Post(api("/api/edit").c_str(), body.dump(), "application/json");
   }
 
-  // Reads server-sent states until `done` says so (or 30 s); returns the last one.
-  json state_when(const std::function<bool(const json&)>& done) {
+  // Reads the states of one event stream until `done` says so (or `seconds` pass); returns the
+  // last one.
+  json state_when(const std::function<bool(const json&)>& done, int seconds = 30) {
     json last;
     std::string buffer;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
     httplib::Client events("127.0.0.1", port_);
     events.set_read_timeout(30, 0);
     events.Get(api("/api/events").c_str(), [&](const char* data, std::size_t size) {
@@ -279,48 +280,37 @@ TEST_F(EditServer, ARemovalSendsARenumberingAndTheErrorMapMeasuresEachVertex) {
 
   std::vector<int> labels;  // as a page holds them
   bool removal_sent = false, renumbered = false, resent_all = false, paused_sent = false;
-  std::string buffer;
-  httplib::Client events("127.0.0.1", port_);
-  events.set_read_timeout(30, 0);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  events.Get(api("/api/events").c_str(), [&](const char* data, std::size_t size) {
-    buffer.append(data, size);
-    for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
-      const std::string event = buffer.substr(0, end);
-      buffer.erase(0, end + 2);
-      if (event.rfind("data: ", 0) != 0) continue;
-      const json state = json::parse(event.substr(6));
-      if (state.contains("labels")) {
-        labels = state["labels"].get<std::vector<int>>();
-        resent_all = removal_sent;
-      }
-      if (state.contains("renumber")) {
-        const std::vector<int> moved_to = state["renumber"].get<std::vector<int>>();
-        for (int& label : labels)
-          if (label >= 0) label = moved_to.at(label);
-        renumbered = renumbered || removal_sent;
-      }
-      for (const auto& change : state.value("label_changes", json::array()))
-        labels.at(change[0].get<std::size_t>()) = change[1];
-      if (!removal_sent && state["spheres"].size() == 8 && state["iteration"].get<int>() > 40) {
-        // Not the last sphere: the ones after it shift down.
-        EXPECT_EQ(edit({{"op", "remove"}, {"key", state["keys"][1]}})->status, 200);
-        removal_sent = true;
-      } else if (removal_sent && !paused_sent && state["spheres"].size() == 7) {
-        EXPECT_EQ(edit({{"op", "pause"}, {"paused", true}})->status, 200);
-        paused_sent = true;
-      } else if (paused_sent && state["paused"].get<bool>()) {
-        const auto latest = client_->Get(api("/api/labels").c_str());
-        if (latest->get_header_value("X-Vmas-Version") != std::to_string(state["version"].get<std::uint64_t>()))
-          continue;  // a newer state is on its way
-        std::vector<int> server(latest->body.size() / sizeof(int));
-        std::memcpy(server.data(), latest->body.data(), latest->body.size());
-        EXPECT_EQ(labels, server);
-        return false;
-      }
+  state_when([&](const json& state) {
+    if (state.contains("labels")) {
+      labels = state["labels"].get<std::vector<int>>();
+      resent_all = removal_sent;
     }
-    return std::chrono::steady_clock::now() < deadline;
-  });
+    if (state.contains("renumber")) {
+      const std::vector<int> moved_to = state["renumber"].get<std::vector<int>>();
+      for (int& label : labels)
+        if (label >= 0) label = moved_to.at(label);
+      renumbered = renumbered || removal_sent;
+    }
+    for (const auto& change : state.value("label_changes", json::array()))
+      labels.at(change[0].get<std::size_t>()) = change[1];
+    if (!removal_sent && state["spheres"].size() == 8 && state["iteration"].get<int>() > 40) {
+      // Not the last sphere: the ones after it shift down.
+      EXPECT_EQ(edit({{"op", "remove"}, {"key", state["keys"][1]}})->status, 200);
+      removal_sent = true;
+    } else if (removal_sent && !paused_sent && state["spheres"].size() == 7) {
+      EXPECT_EQ(edit({{"op", "pause"}, {"paused", true}})->status, 200);
+      paused_sent = true;
+    } else if (paused_sent && state["paused"].get<bool>()) {
+      const auto latest = client_->Get(api("/api/labels").c_str());
+      if (latest->get_header_value("X-Vmas-Version") != std::to_string(state["version"].get<std::uint64_t>()))
+        return false;  // a newer state is on its way
+      std::vector<int> server(latest->body.size() / sizeof(int));
+      std::memcpy(server.data(), latest->body.data(), latest->body.size());
+      EXPECT_EQ(labels, server);
+      return true;
+    }
+    return false;
+  }, 60);
   ASSERT_TRUE(paused_sent) << "the removal never showed";
   EXPECT_TRUE(renumbered);
   EXPECT_FALSE(resent_all);
