@@ -303,7 +303,7 @@ void EditSession::Impl::apply_target(int target) {
 double EditSession::Impl::measure() {
   const Skeletonizer& s = *skeletonizer_;
   if (!evaluator_)  // a tree over the surface: built once, by the first measurement
-    evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, refinement_eval_options());
+    evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, finish_options_.measure);
   return (*evaluator_)(s.medial_mesh()).hausdorff / s.shape().diagonal;
 }
 
@@ -445,7 +445,8 @@ EditSession::~EditSession() = default;
 const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
 
 FinishOptions finish_as_skeletonize_does(const PreparedShape& prepared, const Options& options) {
-  FinishOptions finish{prepared.surface, options.refine, {}};
+  FinishOptions finish{prepared.surface, options.refine,
+                       refinement_eval_options(prepared.result.prepare.smoothed()), {}};
   // Held by the callback, which only the session's worker calls (one finish at a time).
   auto fresh = std::make_shared<PreparedShape>(prepared);
   finish.fresh_run = [fresh, options](const SkeletonizerOptions& now,

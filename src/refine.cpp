@@ -190,7 +190,7 @@ bool gained_little(bool aimed_uncovered, const EvalResult& before, const EvalRes
 
 }  // namespace
 
-EvalOptions refinement_eval_options() {
+EvalOptions refinement_eval_options(bool smoothed) {
   // A measurement costs a few ms once the first is made (the Evaluator re-uses what it measured
   // of unchanged primitives).
   EvalOptions coarse;
@@ -198,6 +198,7 @@ EvalOptions refinement_eval_options() {
   coarse.boundary_spacing = 0.016;
   coarse.refined_samples = 8;
   coarse.maxima_only = true;
+  coarse.cloud_as_discs = !smoothed;
   return coarse;
 }
 

@@ -241,9 +241,10 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   // The refinement's evaluator needs only the surface: it is built beside the run (its time is
   // then hidden in the run's, or in the waiting for it at the refinement's start).
   std::future<std::unique_ptr<Evaluator>> evaluator;
+  const EvalOptions measure = refinement_eval_options(result.prepare.smoothed());
   if (options.refine.max_moves > 0)
-    evaluator = std::async(std::launch::async, [&surface = prepared.surface] {
-      return std::make_unique<Evaluator>(surface, refinement_eval_options());
+    evaluator = std::async(std::launch::async, [&surface = prepared.surface, &measure] {
+      return std::make_unique<Evaluator>(surface, measure);
     });
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
@@ -257,7 +258,7 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
     result.measured_error = result.refine.error_after;
   } else {
     result.measured_error =
-        Evaluator(prepared.surface, refinement_eval_options())(skeletonizer.medial_mesh())
+        Evaluator(prepared.surface, measure)(skeletonizer.medial_mesh())
             .hausdorff;
   }
   if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;

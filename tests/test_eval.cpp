@@ -280,6 +280,39 @@ TEST(Eval, CapsuleAgainstItsRoundCone) {
   EXPECT_NEAR(spheres_only.medial_to_surface_max, 0.5, 0.01);
 }
 
+TEST(Eval, ASparseCloudWithNormalsIsMeasuredAcrossItsDiscs) {
+  // 300 random points of the unit sphere, with their normals: a random sampling's widest gap
+  // puts points of the sphere 0.37 from the nearest sample, while the sphere itself is the exact
+  // reconstruction.
+  std::mt19937 random(7);
+  std::normal_distribution<double> gaussian;
+  SurfaceInput cloud;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 p = Vec3(gaussian(random), gaussian(random), gaussian(random)).normalized();
+    cloud.points.push_back(p);
+    cloud.normals.push_back(p);
+  }
+  MedialMesh exact;
+  exact.spheres = {{Vec3::Zero(), 1.0}};
+  EvalOptions to_points;
+  to_points.boundary_spacing = 0.01;
+  EvalOptions to_discs = to_points;
+  to_discs.cloud_as_discs = true;
+  const EvalResult gaps = evaluate(cloud, exact, to_points);
+  const EvalResult across = evaluate(cloud, exact, to_discs);
+  EXPECT_GT(gaps.medial_to_surface_max, 0.3);
+  // The discs close all but the widest gaps' middles (0.07).
+  EXPECT_LT(across.medial_to_surface_max, 0.25 * gaps.medial_to_surface_max);
+  EXPECT_EQ(across.surface_to_medial_max, gaps.surface_to_medial_max);  // the other side as is
+  // A reconstruction reaching past the surface is measured as far as it reaches.
+  MedialMesh swollen;
+  swollen.spheres = {{Vec3::Zero(), 1.1}};
+  EXPECT_NEAR(evaluate(cloud, swollen, to_discs).medial_to_surface_max, 0.1, 0.01);
+  // Without normals the points are all there is.
+  cloud.normals.clear();
+  EXPECT_EQ(evaluate(cloud, exact, to_discs).medial_to_surface_max, gaps.medial_to_surface_max);
+}
+
 TEST(Eval, PointInsideAPrimitiveMeasuresToItsBoundary) {
   // A cloud of two points inside a sphere: each is as far from the reconstruction as from the
   // sphere's boundary (the distance to a boundary, not to the solid).

@@ -55,6 +55,7 @@ struct FinishOptions {
   // empty: the shape's own points and normals.
   SurfaceInput surface;
   RefineOptions refine;
+  EvalOptions measure = refinement_eval_options();  // how the finish measures its error
   // A fresh run for a session whose spheres no hand has touched (none split, removed or frozen,
   // nothing undone; the count and λ may have changed): called by finish() with the session's
   // options of that moment, e.g. vmas::best_start on the prepared shape, so that such a finish

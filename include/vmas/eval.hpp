@@ -6,7 +6,8 @@
 //   surface -> medial: for every input point plus area-weighted random surface samples, the
 //     smallest unsigned distance to the boundary of any sphere, cone or tangent triangle;
 //   medial -> surface: for samples on every primitive boundary that lie inside no other
-//     primitive, the distance to the input mesh (to the nearest input point for a cloud).
+//     primitive, the distance to the input mesh (to the nearest input point for a cloud, or to
+//     the nearest of its points' tangent discs: EvalOptions::cloud_as_discs).
 // ε (hausdorff) is the larger of the two maxima; percent() expresses it relative to the input's
 // bounding-box diagonal as the paper does.
 #include <cstddef>
@@ -35,6 +36,11 @@ struct EvalOptions {
   // means, vertex_error and the boundary samples' errors are left empty (0), and distances that
   // cannot reach a maximum are not computed exactly. The maxima are those of a full evaluation.
   bool maxima_only = false;
+  // A cloud with a normal at every point stands for a surface: medial -> surface distances are
+  // then to the nearest of the points' tangent discs (each reaching its point's
+  // kDiscNeighbours-th nearest neighbour), not to the nearest point, so that the gaps of a sparse
+  // sampling are not counted as error. Off: the nearest point, as the paper measures (vmas eval).
+  bool cloud_as_discs = false;
 
   void validate() const;  // throws InvalidOption
 };

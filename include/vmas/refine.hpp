@@ -38,10 +38,13 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
                                  const ProgressCallback& progress = {});
 
 // What the stage measures with: coarser than vmas eval's defaults (the input's vertices only, 4x
-// the boundary spacing, 8 refined maxima, maxima only). Its Evaluator takes a while to build (a
-// tree over the input's faces) and needs only the surface: vmas::skeletonize builds it beside
-// the run and hands it to the overload below.
-EvalOptions refinement_eval_options();
+// the boundary spacing, 8 refined maxima, maxima only), and a cloud's gaps measured across its
+// points' tangent discs (EvalOptions::cloud_as_discs: a sparse sampling's gaps are no error)
+// unless the cloud is `smoothed` (PrepareReport::smoothed: the smoothed surface's normals round
+// its edges off, and discs there would hide spheres reaching past them, as on a noisy gear's
+// teeth). Its Evaluator takes a while to build (a tree over the input's faces) and needs only
+// the surface: vmas::skeletonize builds it beside the run and hands it to the overload below.
+EvalOptions refinement_eval_options(bool smoothed = false);
 
 // As above, measuring with `evaluator`, built on the surface with refinement_eval_options().
 RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluator,

@@ -140,7 +140,7 @@ void EvalOptions::validate() const {
 // Hidden like the stages it holds.
 struct __attribute__((visibility("hidden"))) Evaluator::Impl {
   Impl(const SurfaceInput& shape, const EvalOptions& options)
-      : options(options), shape(shape), distance(shape) {}
+      : options(options), shape(shape), distance(shape, options.cloud_as_discs) {}
 
   // Surface -> medial distance of every sample, exact.
   const std::vector<double>& surface_side(const Envelope& envelope);

@@ -17,10 +17,12 @@ void check_shape(const SurfaceInput& shape);
 // Input points followed by `count` area-weighted random points of the mesh's surface.
 std::vector<Vec3> surface_samples(const SurfaceInput& shape, int count, unsigned seed);
 
-// Distance to the input: exact point-to-triangle distance for a mesh, nearest point for a cloud.
+// Distance to the input: exact point-to-triangle distance for a mesh; for a cloud, to the nearest
+// point, or with `discs` (and a normal at every point) to the nearest of the points' tangent
+// discs (EvalOptions::cloud_as_discs).
 class ShapeDistance {
  public:
-  explicit ShapeDistance(const SurfaceInput& shape);
+  ShapeDistance(const SurfaceInput& shape, bool discs);
 
   // Exact distances, or for a query farther than `stop_below` from the input some distance below
   // it (see Bvh::nearest).
@@ -29,9 +31,11 @@ class ShapeDistance {
 
  private:
   double distance(const Vec3& q, double stop_below, int& near_face) const;
+  double disc_distance(const Vec3& q) const;
 
   const SurfaceInput& shape_;
   std::optional<KdTree> points_;
+  std::vector<double> disc_radius_;  // per point, when measuring to discs
   std::vector<Box> boxes_;
   std::optional<Bvh> triangles_;  // refers to boxes_
 };
