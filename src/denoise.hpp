@@ -42,6 +42,17 @@ std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::v
 // position and gets a NaN normal (orient_normals repairs it).
 std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 
+// Indices of the `smoothed` points (smooth_mls of `raw`, in the same order) that the noisy data
+// support, ascending. Noise spreads a sampling past its surface's edges and tips (a wing's, a
+// finger's) by two or three deviations, and smoothing along the normals keeps that fringe, on
+// which spheres then sit outside the shape. A fringe point has few raw points within `radius`
+// (the noise's deviation, at least two spacings) against the smoothed points around it (within
+// 3 radii): under 0.3 of their upper quartile, it goes; so does a point with no other within 3
+// radii. A uniformly sparse part of a scan (far from the scanner) keeps its points: the points
+// around are as sparse.
+std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std::vector<Vec3>& raw,
+                                    double radius);
+
 // Smooths a noisy mesh's vertices along its own faces and keeps the faces: Taubin's λ|μ filter
 // (λ = 0.5, μ = −0.53: a low-pass filter that does not shrink the shape as plain Laplacian
 // smoothing does), `steps` pairs of passes with uniform weights over each vertex's edge

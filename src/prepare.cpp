@@ -130,6 +130,19 @@ void thin_big_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t bu
   keep_only(surface.normals, thin.kept);
 }
 
+// Keeps the points of `surface` at `kept` (ascending) and counts the others as outliers: the input
+// points they stood for get no label.
+void drop_all_but(const std::vector<int>& kept, SurfaceInput& surface, PrepareReport& report) {
+  report.outliers += surface.points.size() - kept.size();
+  std::vector<int> position(surface.points.size(), -1);
+  for (std::size_t j = 0; j < kept.size(); ++j) position[kept[j]] = static_cast<int>(j);
+  for (int& p : report.stand_in)
+    if (p >= 0) p = position[p];
+  keep_only(report.kept, kept);
+  keep_only(surface.points, kept);
+  keep_only(surface.normals, kept);
+}
+
 // Stray points far from the surface (scanner artefacts, registration leftovers) would each stop
 // shrinking balls and pull clusters; a mesh's vertices are never strays. Returns whether the
 // noise was measured on the way (report.noise).
@@ -151,14 +164,7 @@ bool drop_outliers(SurfaceInput& surface, PrepareReport& report, const PrepareOp
     if (!is_noisy(report.noise, options.noise))
       inliers = with_sparse_parts(surface.points, inliers, options.noise);
   }
-  report.outliers = surface.points.size() - inliers.size();
-  std::vector<int> position(surface.points.size(), -1);
-  for (std::size_t j = 0; j < inliers.size(); ++j) position[inliers[j]] = static_cast<int>(j);
-  for (int& p : report.stand_in)
-    if (p >= 0) p = position[p];
-  keep_only(report.kept, inliers);
-  keep_only(surface.points, inliers);
-  keep_only(surface.normals, inliers);
+  drop_all_but(inliers, surface, report);
   return noise_measured;
 }
 
@@ -209,7 +215,12 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
     if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
   }
   report.mls_radius = radius_for(report.noise.sigma);
+  const std::vector<Vec3> raw = surface.points;
   std::vector<Vec3> normals = smooth_mls(surface.points, report.mls_radius);
+  const std::vector<int> supported = supported_by_noise(
+      surface.points, raw, std::max(report.noise.sigma, 2.0 * report.noise.spacing));
+  drop_all_but(supported, surface, report);
+  keep_only(normals, supported);
   report.residual_noise = estimate_noise(surface.points).sigma;
   return normals;
 }

@@ -2,6 +2,7 @@
 // in code (fixed seeds).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -99,6 +100,52 @@ TEST(DenoiseMls, PullsNoisyPointsBackOntoTheSurface) {
   for (std::size_t i = 0; i < points.size(); ++i)
     along_radius += std::abs(normals[i].dot((points[i] - center).normalized())) > 0.95;
   EXPECT_GT(along_radius, 0.99 * points.size());
+}
+
+TEST(DenoiseFringe, NoiseSpreadPastAnEdgeGoesAndASparserPartStays) {
+  // A unit square of z = 0 sampled with Gaussian noise (σ = 0.02 on every axis), its right half
+  // three times sparser than its left; the smoothing's result simulated by setting z to 0. The
+  // noise spreads the points up to 3-4 σ past the square's edges.
+  const double sigma = 0.02;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, sigma);
+  std::vector<Vec3> raw;
+  while (raw.size() < 60000) {
+    const Vec3 p(uniform(random), uniform(random), 0.0);
+    if (p.x() > 0.5 && uniform(random) > 1.0 / 3.0) continue;
+    raw.push_back(p + Vec3(noise(random), noise(random), noise(random)));
+  }
+  std::vector<Vec3> smoothed = raw;
+  for (Vec3& p : smoothed) p.z() = 0.0;
+  const std::vector<int> kept = supported_by_noise(smoothed, raw, sigma);
+  std::vector<char> is_kept(raw.size(), 0);
+  for (int i : kept) is_kept[i] = 1;
+  const auto past_edge = [](const Vec3& p) {
+    return std::max({-p.x(), p.x() - 1.0, -p.y(), p.y() - 1.0});
+  };
+  int far_past = 0, far_past_kept = 0, inside = 0, inside_dropped = 0, sparse_inside = 0;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    const double beyond = past_edge(smoothed[i]);
+    if (beyond > 2.0 * sigma) {
+      ++far_past;
+      far_past_kept += is_kept[i];
+    }
+    // Inside, and farther from the density's step than the points compared with.
+    if (beyond < -2.0 * sigma && std::abs(smoothed[i].x() - 0.5) > 3.0 * sigma) {
+      ++inside;
+      inside_dropped += !is_kept[i];
+      sparse_inside += smoothed[i].x() > 0.5;
+    }
+  }
+  EXPECT_GT(far_past, 30);
+  EXPECT_LE(far_past_kept, far_past / 10);
+  // The sparser half too: a point inside goes only when few of the noisy points happen to fall
+  // near it (about 22 on average in the sparser half).
+  EXPECT_LT(inside_dropped, inside / 1000);
+  EXPECT_GT(sparse_inside, 2000);
+  EXPECT_GT(kept.size(), 0.95 * raw.size());
+  EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
 }
 
 TEST(DenoiseMls, DeviationAtSamplesIsTheSmoothingsOwnAtThosePoints) {

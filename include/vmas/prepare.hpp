@@ -75,7 +75,7 @@ struct PrepareReport {
                                 // (itself, or its voxel's point when thinned; −1: dropped)
   std::size_t thinned_from = 0;  // points before thinning (0: not thinned)
   double voxel = 0.0;            // edge of the thinning grid (absolute, prepared coordinates)
-  std::size_t outliers = 0;     // points dropped as outliers
+  std::size_t outliers = 0;     // points dropped as strays or as the noise's fringe
   NoiseEstimate noise;          // as measured (or given), before smoothing
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
   double mls_radius = 0.0;      // clouds: support of the MLS smoothing (0: not smoothed)
