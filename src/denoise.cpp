@@ -200,12 +200,10 @@ double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>&
   return std::sqrt(quadric.residual_squares / (static_cast<double>(indices.size()) - 6.0));
 }
 
-// Points moved to their centroid, in float: PCL computes in float, and large coordinates (far
-// from the origin) would lose their precision otherwise.
-pcl::PointCloud<pcl::PointXYZ>::Ptr centred_cloud(const std::vector<Vec3>& points, Vec3& centroid) {
-  centroid = Vec3::Zero();
-  for (const Vec3& p : points) centroid += p;
-  centroid /= static_cast<double>(points.size());
+// Points moved by -centroid, in float: PCL computes in float, and large coordinates (far from
+// the origin) would lose their precision otherwise.
+pcl::PointCloud<pcl::PointXYZ>::Ptr cloud_about(const std::vector<Vec3>& points,
+                                                const Vec3& centroid) {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   cloud->resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -213,6 +211,14 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr centred_cloud(const std::vector<Vec3>& point
     (*cloud)[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
   }
   return cloud;
+}
+
+// cloud_about the points' own centroid.
+pcl::PointCloud<pcl::PointXYZ>::Ptr centred_cloud(const std::vector<Vec3>& points, Vec3& centroid) {
+  centroid = Vec3::Zero();
+  for (const Vec3& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  return cloud_about(points, centroid);
 }
 
 }  // namespace
@@ -528,12 +534,7 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   const auto raw_cloud = centred_cloud(raw, centroid);
   FlannSearch raw_search(false);
   raw_search.setInputCloud(raw_cloud);
-  auto smoothed_cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  smoothed_cloud->resize(smoothed.size());
-  for (std::size_t i = 0; i < smoothed.size(); ++i) {
-    const Eigen::Vector3f p = (smoothed[i] - centroid).cast<float>();
-    (*smoothed_cloud)[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
-  }
+  const auto smoothed_cloud = cloud_about(smoothed, centroid);
   FlannSearch smoothed_search(false);
   smoothed_search.setInputCloud(smoothed_cloud);
   // The points compared with: an even subset (a quantile of a few dozen counts is as good as of
@@ -545,6 +546,7 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   FlannSearch reference_search(false);
   reference_search.setInputCloud(reference_cloud);
   const auto count = static_cast<std::ptrdiff_t>(smoothed.size());
+  const double reach = kFringeReach * radius;
   std::vector<int> support(smoothed.size(), 0);
 #pragma omp parallel
   {
@@ -562,7 +564,6 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
     std::vector<int> counts;
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
-      const double reach = kFringeReach * radius;
       counts.clear();
       reference_search.radiusSearch((*smoothed_cloud)[i], reach, around, squared);
       for (int r : around)

@@ -240,10 +240,10 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   Skeletonizer skeletonizer = build();
   // The refinement's evaluator needs only the surface: it is built beside the run (its time is
   // then hidden in the run's, or in the waiting for it at the refinement's start).
-  std::future<std::unique_ptr<Evaluator>> evaluator;
   const EvalOptions measure = refinement_eval_options(result.prepare.smoothed());
+  std::future<std::unique_ptr<Evaluator>> evaluator;  // waits for the build when destroyed
   if (options.refine.max_moves > 0)
-    evaluator = std::async(std::launch::async, [&surface = prepared.surface, &measure] {
+    evaluator = std::async(std::launch::async, [&surface = prepared.surface, measure] {
       return std::make_unique<Evaluator>(surface, measure);
     });
   result.summary = skeletonizer.run(progress);
