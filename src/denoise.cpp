@@ -26,7 +26,7 @@
 #include <pcl/search/impl/search.hpp>
 #include <pcl/surface/impl/mls.hpp>
 
-#include "disjoint_sets.hpp"
+#include "cloud_graph.hpp"
 #include "flann_query.hpp"
 #include "principal_axes.hpp"
 #include "vmas/error.hpp"
@@ -492,39 +492,6 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
   return normals;
 }
 
-namespace {
-
-// Connected pieces of the k-nearest-neighbour graph of points[indices] (k as the shape's default
-// graph).
-int piece_count(const std::vector<Vec3>& points, const std::vector<int>& indices) {
-  constexpr int kGraphNeighbours = 6;
-  std::vector<Vec3> selected;
-  selected.reserve(indices.size());
-  for (int i : indices) selected.push_back(points[i]);
-  const KdTree tree(selected);
-  const auto count = static_cast<std::ptrdiff_t>(selected.size());
-  std::vector<int> neighbours_of(selected.size() * kGraphNeighbours, -1);
-#pragma omp parallel
-  {
-    std::vector<int> neighbours;
-    std::vector<double> squared;
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      tree.k_nearest(selected[i], kGraphNeighbours + 1, neighbours, squared);
-      for (std::size_t j = 1; j < neighbours.size(); ++j)
-        neighbours_of[i * kGraphNeighbours + j - 1] = neighbours[j];
-    }
-  }
-  internal::DisjointSets pieces(static_cast<int>(selected.size()));
-  for (std::ptrdiff_t i = 0; i < count; ++i)
-    for (int k = 0; k < kGraphNeighbours; ++k)
-      if (neighbours_of[i * kGraphNeighbours + k] >= 0)
-        pieces.unite(static_cast<int>(i), neighbours_of[i * kGraphNeighbours + k]);
-  return pieces.sets();
-}
-
-}  // namespace
-
 std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std::vector<Vec3>& raw,
                                     double radius) {
   std::vector<int> all(smoothed.size());
@@ -587,9 +554,12 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   for (std::size_t i = 0; i < smoothed.size(); ++i)
     if (kept[i]) supported.push_back(static_cast<int>(i));
   // A trim that leaves the data in more pieces went through a thin part, not along an edge.
-  if (supported.size() < smoothed.size() &&
-      piece_count(smoothed, supported) > piece_count(smoothed, all))
-    return all;
+  if (supported.size() < smoothed.size()) {
+    std::vector<Vec3> trimmed;
+    trimmed.reserve(supported.size());
+    for (int i : supported) trimmed.push_back(smoothed[i]);
+    if (internal::joined_pieces(trimmed) > internal::joined_pieces(smoothed)) return all;
+  }
   return supported;
 }
 

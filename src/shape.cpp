@@ -9,6 +9,7 @@
 #include <tuple>
 #include <utility>
 
+#include "cloud_graph.hpp"
 #include "disjoint_sets.hpp"
 #include "subsample.hpp"
 #include "vmas/error.hpp"
@@ -90,13 +91,8 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
   set_neighbour_graph(shape, std::move(edges));
 }
 
-// Neighbours searched to join the pieces of a k-NN graph: a sampling that is dense in one
-// direction and sparse in the other (the vertices of a mesh of long thin triangles) falls apart
-// into rows at k = 6 (vessel's vertices: 87 pieces).
-constexpr int kBridgeK = 16;
-
 // Joins the pieces of the graph `edges` over `points` by the shortest of the pairs among each
-// point's kBridgeK nearest that connect two pieces (Kruskal over those pairs, after the graph's
+// point's kJoiningNeighbours nearest that connect two pieces (Kruskal over those pairs, after the graph's
 // own edges): the minimum spanning forest's bridges. A connected graph gains nothing and costs
 // one pass over its edges.
 void add_bridges(const std::vector<Vec3>& points, const KdTree& tree,
@@ -109,7 +105,7 @@ void add_bridges(const std::vector<Vec3>& points, const KdTree& tree,
   std::vector<int> nearest;
   std::vector<double> squared;
   for (int v = 0; v < n; ++v) {
-    tree.k_nearest(points[v], kBridgeK + 1, nearest, squared);
+    tree.k_nearest(points[v], internal::kJoiningNeighbours + 1, nearest, squared);
     for (std::size_t i = 1; i < nearest.size(); ++i)
       if (pieces.find(v) != pieces.find(nearest[i])) candidates.emplace_back(squared[i], v, nearest[i]);
   }
@@ -204,6 +200,28 @@ VertexBlocks build_blocks(const std::vector<Vec3>& points) {
 }
 
 }  // namespace
+
+int internal::joined_pieces(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0;
+  const KdTree tree(points);
+  const int n = static_cast<int>(points.size());
+  const int width = std::min(kJoiningNeighbours + 1, n);
+  std::vector<int> nearest_of(static_cast<std::size_t>(n) * width);
+#pragma omp parallel
+  {
+    std::vector<int> nearest;
+    std::vector<double> squared;
+#pragma omp for schedule(static)
+    for (int v = 0; v < n; ++v) {
+      tree.k_nearest(points[v], width, nearest, squared);
+      std::copy(nearest.begin(), nearest.end(), nearest_of.begin() + std::size_t(v) * width);
+    }
+  }
+  internal::DisjointSets pieces(n);
+  for (int v = 0; v < n; ++v)
+    for (int i = 0; i < width; ++i) pieces.unite(v, nearest_of[std::size_t(v) * width + i]);
+  return pieces.sets();
+}
 
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   options.validate();

@@ -148,6 +148,50 @@ TEST(DenoiseFringe, NoiseSpreadPastAnEdgeGoesAndASparserPartStays) {
   EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
 }
 
+// Two noisy squares 0.08 apart, joined by a row of points (a neck thinner than the noise's
+// radius: its middle has under a third of the support of the squares around it), and, when
+// `band`, by a full-width band too. Noise along the normal only; the smoothing's result
+// simulated by the exact positions.
+struct Neck {
+  std::vector<Vec3> raw, smoothed;
+  std::vector<char> in_neck_middle;
+};
+Neck squares_joined_by_a_neck(bool band) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  Neck neck;
+  const auto add = [&](const Vec3& p, bool middle) {
+    neck.smoothed.push_back(p);
+    neck.raw.push_back(p + Vec3(0.0, 0.0, noise(random)));
+    neck.in_neck_middle.push_back(middle);
+  };
+  for (int i = 0; i < 20000; ++i)  // 40 000 points per unit of area
+    add(Vec3(0.5 * uniform(random) + (i % 2) * 0.58, 0.5 * uniform(random), 0.0), false);
+  for (int i = 0; i < 12; ++i) {  // 0.0067 apart, within any point's 16 nearest
+    const double x = 0.5 + 0.08 * (i + 0.5) / 12.0;
+    add(Vec3(x, 0.25, 0.0), std::abs(x - 0.54) < 0.01);
+  }
+  if (band)
+    for (int i = 0; i < 320; ++i)
+      add(Vec3(0.5 + 0.08 * uniform(random), 0.05 + 0.1 * uniform(random), 0.0), false);
+  return neck;
+}
+
+TEST(DenoiseFringe, ATrimThatWouldCutTheDataInTwoKeepsEveryPoint) {
+  const Neck alone = squares_joined_by_a_neck(false);
+  EXPECT_EQ(supported_by_noise(alone.smoothed, alone.raw, 0.02).size(), alone.raw.size());
+  // With the band, cutting the neck leaves one piece: its middle goes.
+  const Neck joined = squares_joined_by_a_neck(true);
+  const std::vector<int> kept = supported_by_noise(joined.smoothed, joined.raw, 0.02);
+  int middle = 0, middle_kept = 0;
+  for (std::size_t i = 0; i < joined.raw.size(); ++i) middle += joined.in_neck_middle[i];
+  for (int i : kept) middle_kept += joined.in_neck_middle[i];
+  EXPECT_GE(middle, 2);
+  EXPECT_EQ(middle_kept, 0);
+  EXPECT_GT(kept.size(), 0.98 * joined.raw.size());
+}
+
 TEST(DenoiseMls, DeviationAtSamplesIsTheSmoothingsOwnAtThosePoints) {
   const Sample s = test::sample_torus(1.0, 0.35, 12000, 12);
   const std::vector<Vec3> noisy = test::with_noise(s.points, 0.015, 13);
