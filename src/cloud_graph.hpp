@@ -13,9 +13,18 @@ namespace internal __attribute__((visibility("hidden"))) {
 // neighbours join it.
 constexpr int kJoiningNeighbours = 16;
 
+// Each point's kJoiningNeighbours nearest, the point itself first (`width` per row).
+struct JoiningNeighbours {
+  int width = 0;
+  std::vector<int> nearest;
+
+  const int* row(int point) const { return nearest.data() + std::size_t(point) * width; }
+};
+JoiningNeighbours joining_neighbours(const std::vector<Vec3>& points);
+
 // Connected pieces of the graph that joins each point to its kJoiningNeighbours nearest: the
 // pieces of a cloud's shape graph (for a graph k up to kJoiningNeighbours).
-int joined_pieces(const std::vector<Vec3>& points);
+int joined_pieces(const JoiningNeighbours& neighbours);
 
 }  // namespace internal
 }  // namespace vmas

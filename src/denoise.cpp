@@ -27,6 +27,7 @@
 #include <pcl/surface/impl/mls.hpp>
 
 #include "cloud_graph.hpp"
+#include "disjoint_sets.hpp"
 #include "flann_query.hpp"
 #include "principal_axes.hpp"
 #include "vmas/error.hpp"
@@ -492,6 +493,92 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius) {
   return normals;
 }
 
+namespace {
+
+// The pieces that the kept points form with the points activated so far (kept ones first).
+class KeptPieces {
+ public:
+  KeptPieces(const std::vector<std::vector<int>>& adjacent, const std::vector<char>& kept)
+      : adjacent_(adjacent), active_(kept.size(), 0), sets_(static_cast<int>(kept.size())),
+        holds_kept_(kept.begin(), kept.end()) {
+    for (std::size_t v = 0; v < kept.size(); ++v)
+      if (kept[v]) {
+        ++count_;
+        activate(static_cast<int>(v));
+      }
+  }
+  void activate(int v) {
+    active_[v] = 1;
+    for (int w : adjacent_[v]) {
+      if (!active_[w]) continue;
+      const int a = sets_.find(v), b = sets_.find(w);
+      if (a == b) continue;
+      const bool both = holds_kept_[a] && holds_kept_[b];
+      const char either = holds_kept_[a] || holds_kept_[b];
+      sets_.unite(a, b);
+      holds_kept_[sets_.find(a)] = either;
+      count_ -= both;
+    }
+  }
+  int count() const { return count_; }
+
+ private:
+  const std::vector<std::vector<int>>& adjacent_;
+  std::vector<char> active_;
+  internal::DisjointSets sets_;
+  std::vector<char> holds_kept_;  // per set root
+  int count_ = 0;
+};
+
+// Rejoins what a trim (`kept`, one flag per point of `neighbours`) cut in pieces: a thin part whose
+// noise leaves its points little support. Of each group of dropped points that touches two or
+// more pieces of the kept ones, the best supported come back one by one until the pieces are
+// joined as the whole group would join them: along the thin part's densest path, while most
+// of its fringe stays dropped.
+void rejoin_pieces(const internal::JoiningNeighbours& neighbours, const std::vector<int>& support,
+                   std::vector<char>& kept) {
+  const int n = static_cast<int>(kept.size());
+  // Both directions of the k-nearest relation: a point joins whoever lists it too.
+  std::vector<std::vector<int>> adjacent(n);
+  for (int v = 0; v < n; ++v)
+    for (int i = 1; i < neighbours.width; ++i) {
+      const int w = neighbours.row(v)[i];
+      adjacent[v].push_back(w);
+      adjacent[w].push_back(v);
+    }
+  // Pieces of the kept points and groups of the dropped ones; a group's pieces: -1 none yet,
+  // -2 two or more.
+  internal::DisjointSets sides(n);
+  for (int v = 0; v < n; ++v)
+    for (int w : adjacent[v])
+      if (kept[v] == kept[w]) sides.unite(v, w);
+  std::vector<int> piece_of_group(n, -1);
+  for (int v = 0; v < n; ++v)
+    if (!kept[v])
+      for (int w : adjacent[v]) {
+        if (!kept[w]) continue;
+        int& piece = piece_of_group[sides.find(v)];
+        const int touched = sides.find(w);
+        piece = piece == -1 || piece == touched ? touched : -2;
+      }
+  std::vector<int> candidates;
+  for (int v = 0; v < n; ++v)
+    if (!kept[v] && piece_of_group[sides.find(v)] == -2) candidates.push_back(v);
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](int a, int b) { return support[a] > support[b]; });
+  // As far as the whole groups would join the pieces, the best supported of them, one by one.
+  KeptPieces with_groups(adjacent, kept);
+  for (int v : candidates) with_groups.activate(v);
+  KeptPieces pieces(adjacent, kept);
+  for (int v : candidates) {
+    if (pieces.count() <= with_groups.count()) break;
+    pieces.activate(v);
+    kept[v] = 1;
+  }
+}
+
+}  // namespace
+
 std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std::vector<Vec3>& raw,
                                     double radius) {
   std::vector<int> all(smoothed.size());
@@ -550,16 +637,24 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
       kept[i] = support[i] >= kFringeDensity * counts[at];
     }
   }
+  const auto kept_points = [&] {
+    std::vector<Vec3> trimmed;
+    for (std::size_t i = 0; i < smoothed.size(); ++i)
+      if (kept[i]) trimmed.push_back(smoothed[i]);
+    return trimmed;
+  };
+  // A trim that leaves the data in more pieces went through a thin part, not along an edge.
+  if (std::find(kept.begin(), kept.end(), 0) != kept.end()) {
+    const internal::JoiningNeighbours neighbours = internal::joining_neighbours(smoothed);
+    const int pieces = internal::joined_pieces(neighbours);
+    if (internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces) {
+      rejoin_pieces(neighbours, support, kept);
+      if (internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces) return all;
+    }
+  }
   std::vector<int> supported;
   for (std::size_t i = 0; i < smoothed.size(); ++i)
     if (kept[i]) supported.push_back(static_cast<int>(i));
-  // A trim that leaves the data in more pieces went through a thin part, not along an edge.
-  if (supported.size() < smoothed.size()) {
-    std::vector<Vec3> trimmed;
-    trimmed.reserve(supported.size());
-    for (int i : supported) trimmed.push_back(smoothed[i]);
-    if (internal::joined_pieces(trimmed) > internal::joined_pieces(smoothed)) return all;
-  }
   return supported;
 }
 

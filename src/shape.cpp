@@ -201,25 +201,32 @@ VertexBlocks build_blocks(const std::vector<Vec3>& points) {
 
 }  // namespace
 
-int internal::joined_pieces(const std::vector<Vec3>& points) {
-  if (points.empty()) return 0;
+internal::JoiningNeighbours internal::joining_neighbours(const std::vector<Vec3>& points) {
+  JoiningNeighbours result;
+  if (points.empty()) return result;
   const KdTree tree(points);
   const int n = static_cast<int>(points.size());
-  const int width = std::min(kJoiningNeighbours + 1, n);
-  std::vector<int> nearest_of(static_cast<std::size_t>(n) * width);
+  result.width = std::min(kJoiningNeighbours + 1, n);
+  result.nearest.resize(static_cast<std::size_t>(n) * result.width);
 #pragma omp parallel
   {
     std::vector<int> nearest;
     std::vector<double> squared;
 #pragma omp for schedule(static)
     for (int v = 0; v < n; ++v) {
-      tree.k_nearest(points[v], width, nearest, squared);
-      std::copy(nearest.begin(), nearest.end(), nearest_of.begin() + std::size_t(v) * width);
+      tree.k_nearest(points[v], result.width, nearest, squared);
+      std::copy(nearest.begin(), nearest.end(),
+                result.nearest.begin() + std::size_t(v) * result.width);
     }
   }
+  return result;
+}
+
+int internal::joined_pieces(const JoiningNeighbours& neighbours) {
+  const int n = neighbours.width > 0 ? static_cast<int>(neighbours.nearest.size()) / neighbours.width : 0;
   internal::DisjointSets pieces(n);
   for (int v = 0; v < n; ++v)
-    for (int i = 0; i < width; ++i) pieces.unite(v, nearest_of[std::size_t(v) * width + i]);
+    for (int i = 0; i < neighbours.width; ++i) pieces.unite(v, neighbours.row(v)[i]);
   return pieces.sets();
 }
 
