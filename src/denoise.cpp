@@ -531,18 +531,18 @@ class KeptPieces {
 };
 
 // Rejoins what a trim (`kept`, one flag per point of `neighbours`) cut in pieces: a thin part whose
-// noise leaves its points little support. Of each group of dropped points that touches two or
-// more pieces of the kept ones, the best supported come back one by one until the pieces are
-// joined as the whole group would join them: along the thin part's densest path, while most
-// of its fringe stays dropped.
+// noise leaves its points little support. Of the groups of dropped points that touch two or more
+// pieces of the kept ones, the best supported points come back one by one until the pieces are
+// joined as the whole groups would join them; the rest of the trim stands.
 void rejoin_pieces(const internal::JoiningNeighbours& neighbours, const std::vector<int>& support,
                    std::vector<char>& kept) {
   const int n = static_cast<int>(kept.size());
   // Both directions of the k-nearest relation: a point joins whoever lists it too.
   std::vector<std::vector<int>> adjacent(n);
   for (int v = 0; v < n; ++v)
-    for (int i = 1; i < neighbours.width; ++i) {
+    for (int i = 0; i < neighbours.width; ++i) {
       const int w = neighbours.row(v)[i];
+      if (w == v) continue;
       adjacent[v].push_back(w);
       adjacent[w].push_back(v);
     }
@@ -647,9 +647,15 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   if (std::find(kept.begin(), kept.end(), 0) != kept.end()) {
     const internal::JoiningNeighbours neighbours = internal::joining_neighbours(smoothed);
     const int pieces = internal::joined_pieces(neighbours);
-    if (internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces) {
+    // The kept points' own graph; only when the rows of all the points, which bound its pieces
+    // from above, leave more.
+    const auto cut = [&] {
+      return internal::joined_pieces(neighbours, &kept) > pieces &&
+             internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces;
+    };
+    if (cut()) {
       rejoin_pieces(neighbours, support, kept);
-      if (internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces) return all;
+      if (cut()) return all;
     }
   }
   std::vector<int> supported;

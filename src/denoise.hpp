@@ -49,8 +49,10 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 // (the noise's deviation, at least two spacings) against the smoothed points around it (within
 // 3 radii): under 0.3 of their upper quartile, it goes; so does a point with no other within 3
 // radii. A uniformly sparse part of a scan (far from the scanner) keeps its points: the points
-// around are as sparse. When the points kept would fall into more pieces than all of them
-// (6-nearest-neighbour graph), the trim cut through a thin part: every point is returned.
+// around are as sparse. When the points kept would fall into more pieces than all of them (as
+// the shape's graph joins them: cloud_graph.hpp), the trim cut through a thin part: the dropped
+// points there that best rejoin the pieces come back, and if the pieces still are more, every
+// point is returned.
 std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std::vector<Vec3>& raw,
                                     double radius);
 

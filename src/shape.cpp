@@ -92,9 +92,9 @@ void build_mesh_attributes(const SurfaceInput& input, Shape& shape) {
 }
 
 // Joins the pieces of the graph `edges` over `points` by the shortest of the pairs among each
-// point's kJoiningNeighbours nearest that connect two pieces (Kruskal over those pairs, after the graph's
-// own edges): the minimum spanning forest's bridges. A connected graph gains nothing and costs
-// one pass over its edges.
+// point's kJoiningNeighbours nearest that connect two pieces (Kruskal over those pairs, after the
+// graph's own edges): the minimum spanning forest's bridges. A connected graph gains nothing and
+// costs one pass over its edges.
 void add_bridges(const std::vector<Vec3>& points, const KdTree& tree,
                  std::vector<std::pair<int, int>>& edges) {
   const int n = static_cast<int>(points.size());
@@ -107,7 +107,8 @@ void add_bridges(const std::vector<Vec3>& points, const KdTree& tree,
   for (int v = 0; v < n; ++v) {
     tree.k_nearest(points[v], internal::kJoiningNeighbours + 1, nearest, squared);
     for (std::size_t i = 1; i < nearest.size(); ++i)
-      if (pieces.find(v) != pieces.find(nearest[i])) candidates.emplace_back(squared[i], v, nearest[i]);
+      if (pieces.find(v) != pieces.find(nearest[i]))
+        candidates.emplace_back(squared[i], v, nearest[i]);
   }
   std::sort(candidates.begin(), candidates.end());
   for (const auto& [length, a, b] : candidates)
@@ -215,19 +216,32 @@ internal::JoiningNeighbours internal::joining_neighbours(const std::vector<Vec3>
 #pragma omp for schedule(static)
     for (int v = 0; v < n; ++v) {
       tree.k_nearest(points[v], result.width, nearest, squared);
-      std::copy(nearest.begin(), nearest.end(),
-                result.nearest.begin() + std::size_t(v) * result.width);
+      // A short answer leaves the rest of the row to the point itself (no link).
+      const auto row = result.nearest.begin() + std::size_t(v) * result.width;
+      std::fill(row, row + result.width, v);
+      std::copy(nearest.begin(), nearest.begin() + std::min<int>(nearest.size(), result.width),
+                row);
     }
   }
   return result;
 }
 
-int internal::joined_pieces(const JoiningNeighbours& neighbours) {
-  const int n = neighbours.width > 0 ? static_cast<int>(neighbours.nearest.size()) / neighbours.width : 0;
+int internal::joined_pieces(const JoiningNeighbours& neighbours, const std::vector<char>* among) {
+  const int n = neighbours.size();
+  const auto counted = [&](int v) { return among == nullptr || (*among)[v]; };
   internal::DisjointSets pieces(n);
   for (int v = 0; v < n; ++v)
-    for (int i = 0; i < neighbours.width; ++i) pieces.unite(v, neighbours.row(v)[i]);
-  return pieces.sets();
+    for (int i = 0; i < neighbours.width; ++i)
+      if (counted(v) && counted(neighbours.row(v)[i])) pieces.unite(v, neighbours.row(v)[i]);
+  if (among == nullptr) return pieces.sets();
+  std::vector<char> is_root(n, 0);
+  int count = 0;
+  for (int v = 0; v < n; ++v)
+    if (counted(v) && !is_root[pieces.find(v)]) {
+      is_root[pieces.find(v)] = 1;
+      ++count;
+    }
+  return count;
 }
 
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
