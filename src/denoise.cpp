@@ -534,7 +534,7 @@ class KeptPieces {
 // noise leaves its points little support. Of the groups of dropped points that touch two or more
 // pieces of the kept ones, the best supported points come back one by one until the pieces are
 // joined as the whole groups would join them; the rest of the trim stands.
-void rejoin_pieces(const internal::JoiningNeighbours& neighbours, const std::vector<int>& support,
+void rejoin_pieces(const internal::Neighbourhoods& neighbours, const std::vector<int>& support,
                    std::vector<char>& kept) {
   const int n = static_cast<int>(kept.size());
   // Both directions of the k-nearest relation: a point joins whoever lists it too.
@@ -566,12 +566,14 @@ void rejoin_pieces(const internal::JoiningNeighbours& neighbours, const std::vec
     if (!kept[v] && piece_of_group[sides.find(v)] == -2) candidates.push_back(v);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [&](int a, int b) { return support[a] > support[b]; });
-  // As far as the whole groups would join the pieces, the best supported of them, one by one.
-  KeptPieces with_groups(adjacent, kept);
-  for (int v : candidates) with_groups.activate(v);
+  // As far as the whole groups would join the pieces (each of them touches kept points), the
+  // best supported of them, one by one.
+  std::vector<char> with_groups = kept;
+  for (int v : candidates) with_groups[v] = 1;
+  const int joinable = internal::joined_pieces(neighbours, &with_groups);
   KeptPieces pieces(adjacent, kept);
   for (int v : candidates) {
-    if (pieces.count() <= with_groups.count()) break;
+    if (pieces.count() <= joinable) break;
     pieces.activate(v);
     kept[v] = 1;
   }
@@ -645,13 +647,15 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   };
   // A trim that leaves the data in more pieces went through a thin part, not along an edge.
   if (std::find(kept.begin(), kept.end(), 0) != kept.end()) {
-    const internal::JoiningNeighbours neighbours = internal::joining_neighbours(smoothed);
+    const internal::Neighbourhoods neighbours =
+        internal::k_nearest_all(smoothed, internal::kJoiningNeighbours);
     const int pieces = internal::joined_pieces(neighbours);
     // The kept points' own graph; only when the rows of all the points, which bound its pieces
     // from above, leave more.
     const auto cut = [&] {
       return internal::joined_pieces(neighbours, &kept) > pieces &&
-             internal::joined_pieces(internal::joining_neighbours(kept_points())) > pieces;
+             internal::joined_pieces(internal::k_nearest_all(
+                 kept_points(), internal::kJoiningNeighbours)) > pieces;
     };
     if (cut()) {
       rejoin_pieces(neighbours, support, kept);

@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "cloud_graph.hpp"
 #include "disjoint_sets.hpp"
 #include "principal_axes.hpp"
 #include "sphere_lattice.hpp"
@@ -21,36 +22,10 @@
 namespace vmas {
 
 using internal::DisjointSets;
+using internal::k_nearest_all;
+using internal::Neighbourhoods;
 
 namespace {
-
-// The k nearest neighbours of every point, the point itself first (k + 1 per row, row-major).
-struct Neighbourhoods {
-  int width = 0;
-  std::vector<int> indices;
-
-  const int* row(int i) const { return indices.data() + static_cast<std::size_t>(i) * width; }
-};
-
-Neighbourhoods k_nearest_all(const std::vector<Vec3>& points, int k) {
-  const KdTree tree(points);
-  const int count = static_cast<int>(points.size());
-  Neighbourhoods result;
-  result.width = std::min(k + 1, count);
-  result.indices.resize(static_cast<std::size_t>(count) * result.width);
-#pragma omp parallel
-  {
-    std::vector<int> indices;
-    std::vector<double> squared_distances;
-#pragma omp for schedule(static)
-    for (int i = 0; i < count; ++i) {
-      tree.k_nearest(points[i], result.width, indices, squared_distances);
-      std::copy(indices.begin(), indices.end(),
-                result.indices.begin() + std::size_t(i) * result.width);
-    }
-  }
-  return result;
-}
 
 Vec3 centroid_of(const std::vector<Vec3>& points) {
   Vec3 sum = Vec3::Zero();

@@ -202,48 +202,6 @@ VertexBlocks build_blocks(const std::vector<Vec3>& points) {
 
 }  // namespace
 
-internal::JoiningNeighbours internal::joining_neighbours(const std::vector<Vec3>& points) {
-  JoiningNeighbours result;
-  if (points.empty()) return result;
-  const KdTree tree(points);
-  const int n = static_cast<int>(points.size());
-  result.width = std::min(kJoiningNeighbours + 1, n);
-  result.nearest.resize(static_cast<std::size_t>(n) * result.width);
-#pragma omp parallel
-  {
-    std::vector<int> nearest;
-    std::vector<double> squared;
-#pragma omp for schedule(static)
-    for (int v = 0; v < n; ++v) {
-      tree.k_nearest(points[v], result.width, nearest, squared);
-      // A short answer leaves the rest of the row to the point itself (no link).
-      const auto row = result.nearest.begin() + std::size_t(v) * result.width;
-      std::fill(row, row + result.width, v);
-      std::copy(nearest.begin(), nearest.begin() + std::min<int>(nearest.size(), result.width),
-                row);
-    }
-  }
-  return result;
-}
-
-int internal::joined_pieces(const JoiningNeighbours& neighbours, const std::vector<char>* among) {
-  const int n = neighbours.size();
-  const auto counted = [&](int v) { return among == nullptr || (*among)[v]; };
-  internal::DisjointSets pieces(n);
-  for (int v = 0; v < n; ++v)
-    for (int i = 0; i < neighbours.width; ++i)
-      if (counted(v) && counted(neighbours.row(v)[i])) pieces.unite(v, neighbours.row(v)[i]);
-  if (among == nullptr) return pieces.sets();
-  std::vector<char> is_root(n, 0);
-  int count = 0;
-  for (int v = 0; v < n; ++v)
-    if (counted(v) && !is_root[pieces.find(v)]) {
-      is_root[pieces.find(v)] = 1;
-      ++count;
-    }
-  return count;
-}
-
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   options.validate();
   if (input.points.empty()) throw InvalidInput("the shape has no points");
