@@ -122,7 +122,8 @@ def sparse_cloud(args, model, points, faces, path):
 
 def cap_cut(args, model, points, faces, path):
     """The "cap cut off" input, written to `path`: the Table 2 cloud's samples (σ = 0), the end
-    of the longest side cut off. Returns (the points kept, the axis of the cut)."""
+    of the longest side cut off. Returns (the points kept, the axis of the cut, the cut
+    plane's coordinate on it)."""
     samples, _ = vmas_files.sample_surface(points, faces, args.cloud_points,
                                            seed_sequence(args.seed, model, STREAM_SAMPLES))
     low, high = points.min(axis=0), points.max(axis=0)
@@ -130,7 +131,66 @@ def cap_cut(args, model, points, faces, path):
     cut = low[axis] + (1.0 - CAP_FRACTION) * (high[axis] - low[axis])
     kept = samples[samples[:, axis] <= cut]
     vmas_files.write_xyz(path, kept)
-    return kept, axis
+    return kept, axis, cut
+
+
+LID_SPACING = 0.0025  # lid bound: grid spacing on the cut plane, fraction of the diagonal
+LID_GRID = 40000  # ... coarser if the grid would have more points than this
+
+
+def lid_bound(points, faces, kept, axis, cut):
+    """The "lid bound" of the cap cut off, in % of the cut cloud's diagonal (as `vmas eval`
+    normalises ε against the data): the largest distance from a point of the clean mesh's
+    cross-section by the cut plane to the nearest kept point. A solid that fills the opening
+    holds such a point x, and the ray from x away from the data leaves the solid at a boundary
+    point at least as far from every kept point (all lie on the other side of the plane), so no
+    reconstruction that closes the opening has an ε against the data below it. Measured exactly
+    at the points of a grid (LID_SPACING) inside the cross-section, so it stays a lower bound,
+    at most about a grid spacing below the exact max; None if no grid point is inside."""
+    u, v = [a for a in range(3) if a != axis]
+    # the cross-section: a segment per triangle whose vertices lie on both sides of the plane
+    corners = points[faces]
+    below = corners[:, :, axis] < cut
+    ends, crossed = [], []
+    for i, j in ((0, 1), (1, 2), (2, 0)):
+        a, b = corners[:, i], corners[:, j]
+        crossed.append(below[:, i] != below[:, j])
+        t = (cut - a[:, axis]) / np.where(crossed[-1], b[:, axis] - a[:, axis], 1.0)
+        ends.append(a[:, [u, v]] + t[:, None] * (b[:, [u, v]] - a[:, [u, v]]))
+    segments = np.stack(ends, axis=1)[np.stack(crossed, axis=1)].reshape(-1, 2, 2)
+    if len(segments) == 0:
+        return None
+    # grid points inside by the even–odd rule, a row of the grid at a time
+    diagonal = vmas_files.bbox_diagonal(kept)
+    low, high = segments.min(axis=(0, 1)), segments.max(axis=(0, 1))
+    spacing = max(LID_SPACING * diagonal, np.sqrt(np.prod(high - low) / LID_GRID))
+    columns = np.arange(low[0] + spacing / 2, high[0], spacing)
+    rows = np.arange(low[1] + spacing / 2, high[1], spacing)
+    (u0, v0), (u1, v1) = segments[:, 0].T, segments[:, 1].T
+    odd = []
+    for row in rows:
+        spans = (v0 <= row) != (v1 <= row)
+        crossings = np.sort(u0[spans] + (row - v0[spans]) * (u1[spans] - u0[spans])
+                            / (v1[spans] - v0[spans]))
+        odd.append(np.searchsorted(crossings, columns) % 2 == 1)
+    grid_u, grid_v = np.meshgrid(columns, rows)
+    inside = np.column_stack([grid_u[odd], grid_v[odd]])
+    if len(inside) == 0:
+        return None
+
+    def farthest(cloud):
+        """Max over the inside points of the distance to the nearest point of `cloud`."""
+        nearest = [np.min((chunk[:, :1] - cloud[:, u]) ** 2 + (chunk[:, 1:] - cloud[:, v]) ** 2
+                          + (cloud[:, axis] - cut) ** 2, axis=1)
+                   for chunk in np.array_split(inside, 1 + len(inside) * len(cloud) // 10**7)]
+        return float(np.sqrt(np.concatenate(nearest).max()))
+
+    # an upper bound from the kept points near the plane; every point farther from the plane
+    # than it is farther from each inside point than that point's nearest, so the second pass
+    # over the points within it of the plane is exact
+    near = kept[kept[:, axis] >= cut - 0.01 * diagonal]
+    bound = farthest(near) if len(near) else np.inf
+    return 100.0 * farthest(kept[kept[:, axis] >= cut - bound]) / diagonal
 
 
 def moved_copy(args, model, points, faces, t, base):

@@ -8,8 +8,8 @@ import os
 import vmas_files
 
 from . import running
-from .inputs import (SPARSE_MAX_SPHERES, STREAM_SAMPLES, TRANSFORMS, cap_cut, moved_copy,
-                     noise_inputs, scaling_cloud, seed_sequence, sparse_cloud)
+from .inputs import (SPARSE_MAX_SPHERES, STREAM_SAMPLES, TRANSFORMS, cap_cut, lid_bound,
+                     moved_copy, noise_inputs, scaling_cloud, seed_sequence, sparse_cloud)
 from .plots import plot_scaling, render
 from .running import evaluate, read_mesh, skeletonize
 from .tables import KIND_LABEL, REFERENCES, entry_eps, noise_targets, row_eps
@@ -189,9 +189,10 @@ def table3(args, paper, results, save, log):
         row["sparse"] = run_and_measure(args, log, f"{model}, 5 000 points", sparse_xyz, shape,
                                         base + "_5000.ply", sparse_spheres)
         cap_xyz = base + "_cap.xyz"
-        kept, axis = cap_cut(args, model, points, faces, cap_xyz)
+        kept, axis, cut = cap_cut(args, model, points, faces, cap_xyz)
         cap = run_and_measure(args, log, f"{model}, cap cut off", cap_xyz, shape,
                               base + "_cap.ply", spheres, data=cap_xyz)
+        cap["lid_bound_percent"] = lid_bound(points, faces, kept, axis, cut)
         if not cap.get("error"):
             try:
                 medial = running.vmas.read_medial(base + "_cap.ply")
