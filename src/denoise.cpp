@@ -225,7 +225,7 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr centred_cloud(const std::vector<Vec3>& point
 }  // namespace
 
 NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
-  constexpr int kMinNeighbours = 16, kMaxNeighbours = 2048;
+  constexpr int kMaxNeighbours = 2048;
   constexpr double kRadiusInResiduals = 3.0;
   // The noise of a point does not depend on how many others there are: the fits run on an even
   // subset, so that big clouds cost no more and need no bigger neighbourhoods.
@@ -233,7 +233,7 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
   // Query points: enough for a stable median, fewer for the large neighbourhoods.
   constexpr long kQueryNeighbours = 500'000, kMinQueries = 500, kMaxQueries = 4000;
   const int count = static_cast<int>(points.size());
-  if (count < kMinNeighbours)
+  if (count < kFewestNoiseNeighbours)
     throw InvalidInput("too few points (" + std::to_string(count) + ") to estimate the noise");
   NoiseEstimate estimate;
   const KdTree tree(points);
@@ -250,7 +250,7 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
   for (int i = 0; i < count; i += std::max(1, count / kSubset)) subset.push_back(points[i]);
   const int subset_count = static_cast<int>(subset.size());
   const KdTree subset_tree(subset);
-  for (int k = kMinNeighbours; k <= kMaxNeighbours; k *= 2) {
+  for (int k = kFewestNoiseNeighbours; k <= kMaxNeighbours; k *= 2) {
     const int width = std::min(k, subset_count);
     const long queries_wanted = std::clamp(kQueryNeighbours / width, kMinQueries, kMaxQueries);
     const int stride = std::max<long>(1, subset_count / queries_wanted);

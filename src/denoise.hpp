@@ -10,6 +10,9 @@
 
 namespace vmas {
 
+// The smallest neighbourhood estimate_noise fits (NoiseEstimate::neighbours).
+inline constexpr int kFewestNoiseNeighbours = 16;
+
 // Fits a quadric height field to the k nearest neighbours of evenly spread points (within an even
 // subset of 10 000 points) and takes the median RMS residual, at the smallest k in 16, 32, ...
 // 2048 whose neighbourhood radius is at least three times that residual (smaller neighbourhoods

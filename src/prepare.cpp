@@ -31,7 +31,8 @@ void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
 
 // Points needed for a noise estimate; smaller clouds are taken as they are.
 constexpr std::size_t kMinPointsForNoise = 16;
-// A deviation from the smoothed surface this much above the first estimate replaces it.
+// A deviation from the smoothed surface this much above the first estimate sets the smoothing's
+// scale.
 constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
 // Fewer points than this would starve the optimisation: a budget below is a mistake.
 constexpr int kMinMaxPoints = 1000;
@@ -205,20 +206,28 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
   const auto radius_for = [&](double sigma) {
     return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
   };
-  // Local fits read strong noise low (their neighbourhoods hardly reach past it); the distances
-  // to the smoothed surface do not. When they say more, smoothing is at their scale.
+  // The scale of the smoothing: the noise, or the deviation by which smoothing at the noise's
+  // scale moves the points when that is higher. Where the local fits were made in their smallest
+  // neighbourhoods, those lay inside the noise and read it low: the deviation is the noise. In
+  // larger ones they read it right, and the deviation also holds the geometry finer than the
+  // smoothing's support (a gear's teeth, thin parts), at whose scale the smoothing still gives
+  // the lower ε (docs/noise.md, step 3).
+  double scale = report.noise.sigma;
   if (options.denoise == PrepareOptions::Denoise::Auto) {
     // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
-    const double sigma =
+    const double moved =
         std::min(mls_deviation(surface.points, radius_for(report.noise.sigma), kDeviationSamples),
                  kMaxReestimate * report.noise.sigma);
-    if (sigma > kReestimate * report.noise.sigma) report.noise.sigma = sigma;
+    if (moved > kReestimate * report.noise.sigma) {
+      scale = moved;
+      if (report.noise.neighbours <= kFewestNoiseNeighbours) report.noise.sigma = moved;
+    }
   }
-  report.mls_radius = radius_for(report.noise.sigma);
+  report.mls_radius = radius_for(scale);
   const std::vector<Vec3> raw = surface.points;
   std::vector<Vec3> normals = smooth_mls(surface.points, report.mls_radius);
   const std::vector<int> supported = supported_by_noise(
-      surface.points, raw, std::max(report.noise.sigma, 2.0 * report.noise.spacing));
+      surface.points, raw, std::max(scale, 2.0 * report.noise.spacing));
   drop_all_but(supported, surface, report);
   keep_only(normals, supported);
   report.residual_noise = estimate_noise(surface.points).sigma;

@@ -286,6 +286,30 @@ TEST(PrepareNoisy, NoiseOfAMeshIsMeasuredAtEveryLevel) {
   }
 }
 
+// A cloud's noise: local fits in their smallest neighbourhoods read it low, and smoothing at its
+// scale moves the points by more than the noise where the shape is finer than the smoothing's
+// support (a tube of 0.25 against a support of 4 deviations, up to 0.4 at 3 %).
+TEST(PrepareNoisy, NoiseOfACloudIsMeasuredAtEveryLevel) {
+  const double major = 1.0, minor = 0.25;
+  const Sample torus = test::sample_torus(major, minor, 30000, 23);
+  const double diagonal = test::bounding_diagonal(torus.points);
+  for (double fraction : {0.005, 0.01, 0.02, 0.03}) {
+    SurfaceInput cloud;
+    cloud.points = test::with_noise(torus.points, fraction * diagonal, 24);
+    double squares = 0.0;  // the noise as distance to the surface
+    for (const Vec3& p : cloud.points) {
+      const double ring = std::hypot(p.x(), p.y()) - major;
+      squares += std::pow(std::hypot(ring, p.z()) - minor, 2);
+    }
+    const double sigma = std::sqrt(squares / cloud.points.size());
+    const PrepareReport report = prepare_surface(cloud, {});
+    ASSERT_TRUE(report.smoothed()) << "noise " << fraction;
+    const double measured = report.frame.scale * report.noise.sigma;
+    EXPECT_GT(measured, 0.75 * sigma) << "noise " << fraction;
+    EXPECT_LT(measured, 1.25 * sigma) << "noise " << fraction;
+  }
+}
+
 // A noisy mesh stays a mesh: every face kept, the vertices pulled back towards the surface, and
 // the result judged closed.
 TEST(PrepareNoisy, NoisyMeshKeepsItsFacesAndStaysClosed) {
