@@ -94,10 +94,15 @@ std::vector<Warning> warnings_about(const Result& result) {
               std::to_string(holes.size()) + (holes.size() == 1 ? " hole" : " holes") +
               ", the widest " + figure + " % of the diagonal across";
     }
+    // Smoothing folds a part thinner than the noise onto one sheet, which encloses nothing.
+    const std::string causes =
+        result.prepare.mls_radius > 0.0
+            ? ": open or single-view scan, holes, inconsistently oriented normals, or parts "
+              "thinner than the noise that the smoothing merged into one sheet"
+            : ": open or single-view scan, holes, or inconsistently oriented normals";
     warnings.push_back(
         {"open-surface",
-         what + (unenclosed ? ": open or single-view scan, holes, or inconsistently oriented "
-                              "normals; the skeleton is only an approximation there"
+         what + (unenclosed ? causes + "; the skeleton is only an approximation there"
                             : ": the skeleton spans holes as if the surface went on across "
                               "them, and can be far from the data there")});
   }

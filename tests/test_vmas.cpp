@@ -20,6 +20,13 @@ bool has_warning(const Result& result, const std::string& code) {
                      [&](const Warning& w) { return w.code == code; });
 }
 
+// The message of the warning `code`; empty when there is none.
+std::string warning_message(const Result& result, const std::string& code) {
+  for (const Warning& w : result.warnings)
+    if (w.code == code) return w.message;
+  return {};
+}
+
 SurfaceInput capsule_cloud() {
   const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 41);
   SurfaceInput cloud;
@@ -368,6 +375,22 @@ TEST(OneCallWarnings, InwardNormalsAndOpenScans) {
   const Result scan = skeletonize(half, options);
   EXPECT_LT(scan.enclosure, MedialProjector::kEnclosed);
   EXPECT_TRUE(has_warning(scan, "open-surface"));
+  EXPECT_EQ(warning_message(scan, "open-surface").find("smoothing"), std::string::npos);
+}
+
+// A closed plate thinner than its noise: the smoothing merges its faces into one sheet, which
+// encloses nothing, and the warning says that this may be why.
+TEST(Skeletonize, OpenSurfaceWarningOnSmoothedDataNamesMergedThinParts) {
+  SurfaceInput plate;
+  plate.points = test::sample_box(Vec3(2.0, 2.0, 0.02), 20000, 43).points;
+  plate.points = test::with_noise(plate.points, 0.01 * test::bounding_diagonal(plate.points), 44);
+  Options options;
+  options.run.target.spheres = 10;
+  const Result result = skeletonize(plate, options);
+  ASSERT_TRUE(result.prepare.smoothed());
+  EXPECT_LT(result.enclosure, MedialProjector::kEnclosed);
+  EXPECT_NE(warning_message(result, "open-surface").find("thinner than the noise"),
+            std::string::npos);
 }
 
 }  // namespace
