@@ -283,7 +283,7 @@ void DenoiseOptions::validate() const {
   if (!(clean_fraction_of_spacing >= 0.0 && clean_fraction_of_spacing <= 100.0))
     throw InvalidOption("clean fraction of the spacing must be in [0, 100]");
   if (!(mls_radius_in_sigmas > 0.0 && mls_radius_in_sigmas <= 100.0))
-    throw InvalidOption("MLS radius must be in (0, 100] noise deviations");
+    throw InvalidOption("MLS radius must be in (0, 100] smoothing scales");
   if (outlier_k < 2 || outlier_k > 200)
     throw InvalidOption("outlier k must be between 2 and 200 (got " + std::to_string(outlier_k) +
                         ")");

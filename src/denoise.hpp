@@ -18,7 +18,7 @@ inline constexpr int kFewestNoiseNeighbours = 16;
 // 2048 whose neighbourhood radius is at least three times that residual (smaller neighbourhoods
 // lie inside the noise and underestimate it). Clean samples of a smooth surface give a tiny
 // fraction of the spacing; sharp edges touch too few points to move the median. Deterministic.
-// Throws InvalidInput for fewer than 16 points.
+// Throws InvalidInput for fewer than kFewestNoiseNeighbours points.
 NoiseEstimate estimate_noise(const std::vector<Vec3>& points);
 
 // True when `noise` calls for smoothing under `options`.
@@ -49,7 +49,7 @@ std::vector<Vec3> smooth_mls(std::vector<Vec3>& points, double radius);
 // support, ascending. Noise spreads a sampling past its surface's edges and tips (a wing's, a
 // finger's) by two or three deviations, and smoothing along the normals keeps that fringe, on
 // which spheres then sit outside the shape. A fringe point has few raw points within `radius`
-// (the noise's deviation, at least two spacings) against the smoothed points around it (within
+// (the smoothing's scale, at least two spacings) against the smoothed points around it (within
 // 3 radii): under 0.3 of their upper quartile, it goes; so does a point with no other within 3
 // radii. A uniformly sparse part of a scan (far from the scanner) keeps its points: the points
 // around are as sparse. When the points kept would fall into more pieces than all of them (as

@@ -30,10 +30,10 @@ void keep_only(std::vector<T>& values, const std::vector<int>& kept) {
 }
 
 // Points needed for a noise estimate; smaller clouds are taken as they are.
-constexpr std::size_t kMinPointsForNoise = 16;
-// A deviation from the smoothed surface this much above the first estimate sets the smoothing's
-// scale.
-constexpr double kReestimate = 1.1, kMaxReestimate = 1.5;
+constexpr std::size_t kMinPointsForNoise = kFewestNoiseNeighbours;
+// A deviation from the smoothed surface more than this many times the noise sets the smoothing's
+// scale, at most kMaxScaleInNoises times the noise.
+constexpr double kScaleRaise = 1.1, kMaxScaleInNoises = 1.5;
 // Fewer points than this would starve the optimisation: a budget below is a mistake.
 constexpr int kMinMaxPoints = 1000;
 // Points at which the smoothing's deviation is measured: a median over a few thousand is stable
@@ -207,20 +207,21 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
     return std::max(options.noise.mls_radius_in_sigmas * sigma, 3.0 * report.noise.spacing);
   };
   // The scale of the smoothing: the noise, or the deviation by which smoothing at the noise's
-  // scale moves the points when that is higher. Where the local fits were made in their smallest
-  // neighbourhoods, those lay inside the noise and read it low: the deviation is the noise. In
-  // larger ones they read it right, and the deviation also holds the geometry finer than the
-  // smoothing's support (a gear's teeth, thin parts), at whose scale the smoothing still gives
-  // the lower ε (docs/noise.md, step 3).
+  // scale moves the points when that is higher. Fits in the smallest neighbourhoods may lie
+  // inside the noise (the radius test passes on a residual read low): then the deviation is the
+  // noise too. Fits in larger ones passed it on a residual that reaches past the noise, while the
+  // deviation also holds the geometry finer than the smoothing's support (a gear's teeth, thin
+  // parts): the noise stays as read, and the smoothing at that scale, which measured no worse
+  // than at the noise's (docs/noise.md, step 3).
   double scale = report.noise.sigma;
   if (options.denoise == PrepareOptions::Denoise::Auto) {
     // Thin parts that the smoothing folds onto one sheet overstate it: bounded.
     const double moved =
         std::min(mls_deviation(surface.points, radius_for(report.noise.sigma), kDeviationSamples),
-                 kMaxReestimate * report.noise.sigma);
-    if (moved > kReestimate * report.noise.sigma) {
+                 kMaxScaleInNoises * report.noise.sigma);
+    if (moved > kScaleRaise * report.noise.sigma) {
       scale = moved;
-      if (report.noise.neighbours <= kFewestNoiseNeighbours) report.noise.sigma = moved;
+      if (report.noise.neighbours == kFewestNoiseNeighbours) report.noise.sigma = moved;
     }
   }
   report.mls_radius = radius_for(scale);

@@ -94,12 +94,15 @@ std::vector<Warning> warnings_about(const Result& result) {
               std::to_string(holes.size()) + (holes.size() == 1 ? " hole" : " holes") +
               ", the widest " + figure + " % of the diagonal across";
     }
-    // Smoothing folds a part thinner than the noise onto one sheet, which encloses nothing.
-    const std::string causes =
-        result.prepare.mls_radius > 0.0
-            ? ": open or single-view scan, holes, inconsistently oriented normals, or parts "
-              "thinner than the noise that the smoothing merged into one sheet"
-            : ": open or single-view scan, holes, or inconsistently oriented normals";
+    // Smoothing folds a part thinner than its radius onto one sheet, which encloses nothing.
+    std::string causes = ": open or single-view scan, holes, or inconsistently oriented normals";
+    if (result.prepare.mls_radius > 0.0) {
+      std::snprintf(figure, sizeof figure, "%.1f",
+                    100.0 * result.prepare.mls_radius / result.prepare.diagonal);
+      causes = std::string(": open or single-view scan, holes, inconsistently oriented normals, "
+                           "or parts thinner than the smoothing radius (") +
+               figure + " % of the diagonal) that it merged into one sheet";
+    }
     warnings.push_back(
         {"open-surface",
          what + (unenclosed ? causes + "; the skeleton is only an approximation there"
@@ -382,11 +385,11 @@ Pass best_start(const SurfaceInput& input, const Options& options,
 }
 
 // The smoothing a noise estimate calls for can also erase what it should keep: parts of a cloud
-// thinner than the noise merge, normals flip, and balls grow out of the shape. Such a skeleton
-// lies far from the data, so a second pass skeletonizes the points as they are, and the
-// skeleton that reaches less far past them (medial -> data maximum) is kept: on the noisy
-// clouds of the benchmark's Table 2, never the worse of the two by more than 0.3 points. A
-// mesh's smoothing follows its faces and merges nothing: it is not checked.
+// thinner than the smoothing radius merge, normals flip, and balls grow out of the shape. Such a
+// skeleton lies far from the data, so a second pass skeletonizes the points as they are, and the
+// skeleton that reaches less far past them (medial -> data maximum) is kept (docs/noise.md,
+// step 5, has what it decides on the benchmark). A mesh's smoothing follows its faces and
+// merges nothing: it is not checked.
 // `smoothed_seconds`: the time of the smoothed pass; the time of the pass that is not kept is
 // the check's.
 void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput& input,

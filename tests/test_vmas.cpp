@@ -15,16 +15,15 @@
 namespace vmas {
 namespace {
 
-bool has_warning(const Result& result, const std::string& code) {
-  return std::any_of(result.warnings.begin(), result.warnings.end(),
-                     [&](const Warning& w) { return w.code == code; });
-}
-
 // The message of the warning `code`; empty when there is none.
 std::string warning_message(const Result& result, const std::string& code) {
   for (const Warning& w : result.warnings)
     if (w.code == code) return w.message;
   return {};
+}
+
+bool has_warning(const Result& result, const std::string& code) {
+  return !warning_message(result, code).empty();
 }
 
 SurfaceInput capsule_cloud() {
@@ -380,7 +379,7 @@ TEST(OneCallWarnings, InwardNormalsAndOpenScans) {
 
 // A closed plate thinner than its noise: the smoothing merges its faces into one sheet, which
 // encloses nothing, and the warning says that this may be why.
-TEST(Skeletonize, OpenSurfaceWarningOnSmoothedDataNamesMergedThinParts) {
+TEST(OneCallWarnings, OpenSurfaceOnSmoothedDataNamesMergedThinParts) {
   SurfaceInput plate;
   plate.points = test::sample_box(Vec3(2.0, 2.0, 0.02), 20000, 43).points;
   plate.points = test::with_noise(plate.points, 0.01 * test::bounding_diagonal(plate.points), 44);
@@ -389,7 +388,7 @@ TEST(Skeletonize, OpenSurfaceWarningOnSmoothedDataNamesMergedThinParts) {
   const Result result = skeletonize(plate, options);
   ASSERT_TRUE(result.prepare.smoothed());
   EXPECT_LT(result.enclosure, MedialProjector::kEnclosed);
-  EXPECT_NE(warning_message(result, "open-surface").find("thinner than the noise"),
+  EXPECT_NE(warning_message(result, "open-surface").find("thinner than the smoothing radius"),
             std::string::npos);
 }
 

@@ -22,7 +22,7 @@ struct DenoiseOptions {
   // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls
   // (smoothing them would blur what matters more, such as registration seams).
   double clean_fraction_of_spacing = 0.35;
-  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in estimated noise deviations
+  double mls_radius_in_sigmas = 4.0;  // MLS support radius, in smoothing scales (noise.md, step 3)
   int outlier_k = 16;                 // statistical outlier removal: neighbours per point ...
   double outlier_deviations = 3.0;    // ... and the mean distance beyond mean + this × std
   void validate() const;              // throws InvalidOption

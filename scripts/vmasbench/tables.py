@@ -167,8 +167,8 @@ def _failure(row):
 
 def noise_ratio(row):
     """vmas' noise estimate over the true σ, both as lengths, for a noisy row that ran (else
-    None). Not the percentages: vmas gives its estimate in % of the diagonal of the data it
-    read, the noisy data (up to 26 % longer than the clean mesh's at σ = 3 %), while σ is in %
+    None). Not the percentages: vmas gives its estimate in % of the diagonal of the noisy data
+    as it prepared them (up to 35 % longer than the clean mesh's at σ = 3 %), while σ is in %
     of the clean mesh's diagonal, which `vmas eval` against the clean mesh reports."""
     if row["kind"] == "outliers" or not row["sigma_percent"] or _failure(row):
         return None
