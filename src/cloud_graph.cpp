@@ -34,17 +34,20 @@ int internal::joined_pieces(const Neighbourhoods& neighbours, const std::vector<
   const int count = neighbours.size();
   const auto counted = [&](int i) { return among == nullptr || (*among)[i]; };
   DisjointSets pieces(count);
-  for (int i = 0; i < count; ++i)
+  for (int i = 0; i < count; ++i) {
+    if (!counted(i)) continue;
     for (int c = 0; c < neighbours.width; ++c)
-      if (counted(i) && counted(neighbours.row(i)[c])) pieces.unite(i, neighbours.row(i)[c]);
+      if (counted(neighbours.row(i)[c])) pieces.unite(i, neighbours.row(i)[c]);
+  }
   if (among == nullptr) return pieces.sets();
   std::vector<char> is_root(count, 0);
   int flagged_pieces = 0;
-  for (int i = 0; i < count; ++i)
-    if (counted(i) && !is_root[pieces.find(i)]) {
-      is_root[pieces.find(i)] = 1;
-      ++flagged_pieces;
-    }
+  for (int i = 0; i < count; ++i) {
+    if (!counted(i)) continue;
+    const int root = pieces.find(i);
+    flagged_pieces += !is_root[root];
+    is_root[root] = 1;
+  }
   return flagged_pieces;
 }
 

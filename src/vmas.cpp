@@ -94,20 +94,24 @@ std::vector<Warning> warnings_about(const Result& result) {
               std::to_string(holes.size()) + (holes.size() == 1 ? " hole" : " holes") +
               ", the widest " + figure + " % of the diagonal across";
     }
-    // Smoothing folds a part thinner than its radius onto one sheet, which encloses nothing.
-    std::string causes = ": open or single-view scan, holes, or inconsistently oriented normals";
-    if (result.prepare.mls_radius > 0.0) {
-      std::snprintf(figure, sizeof figure, "%.1f",
-                    100.0 * result.prepare.mls_radius / result.prepare.diagonal);
-      causes = std::string(": open or single-view scan, holes, inconsistently oriented normals, "
-                           "or parts thinner than the smoothing radius (") +
+    std::string why =
+        ": the skeleton spans holes as if the surface went on across them, and can be far from "
+        "the data there";
+    if (unenclosed) {
+      why = ": open or single-view scan, holes, ";
+      // Smoothing folds a part thinner than its radius onto one sheet, which encloses nothing.
+      if (result.prepare.mls_radius > 0.0) {
+        std::snprintf(figure, sizeof figure, "%.1f",
+                      100.0 * result.prepare.mls_radius / result.prepare.diagonal);
+        why += std::string("inconsistently oriented normals, or parts thinner than the smoothing "
+                           "radius (") +
                figure + " % of the diagonal) that it merged into one sheet";
+      } else {
+        why += "or inconsistently oriented normals";
+      }
+      why += "; the skeleton is only an approximation there";
     }
-    warnings.push_back(
-        {"open-surface",
-         what + (unenclosed ? causes + "; the skeleton is only an approximation there"
-                            : ": the skeleton spans holes as if the surface went on across "
-                              "them, and can be far from the data there")});
+    warnings.push_back({"open-surface", what + why});
   }
   if (result.skeleton_components > result.input_components)
     warnings.push_back(
