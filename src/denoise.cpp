@@ -43,6 +43,11 @@ namespace {
 
 // Median of |x| for a standard normal x: a robust deviation is a median distance over this.
 constexpr double kHalfNormalMedian = 0.6745;
+// restore_smoothing_bias: residuals are averaged over the points within the radius, at least
+// this many (their noise falls to a tenth), of an even subset of about this many.
+constexpr std::size_t kBiasNeighbours = 128, kBiasReferencePoints = 8000;
+// ... and a point takes a blend of the figures of this many nearest of the subset.
+constexpr std::size_t kBiasBlended = 4;
 // supported_by_noise: a smoothed point is measured against the points within this many support
 // radii: far enough to reach from the fringe past an edge to the surface inside it ...
 constexpr double kFringeReach = 3.0;
@@ -666,6 +671,61 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
   for (std::size_t i = 0; i < smoothed.size(); ++i)
     if (kept[i]) supported.push_back(static_cast<int>(i));
   return supported;
+}
+
+void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>& normals,
+                            const std::vector<Vec3>& raw, double radius) {
+  if (smoothed.empty()) return;
+  Vec3 centroid;
+  const auto cloud = centred_cloud(smoothed, centroid);
+  // The bias varies over the smoothing's support, not from point to point: it is measured around
+  // an even subset of the points, and each point takes a blend of the figures of its nearest.
+  const std::size_t stride = std::max<std::size_t>(1, smoothed.size() / kBiasReferencePoints);
+  auto reference = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  std::vector<Vec3> residuals;
+  for (std::size_t i = 0; i < smoothed.size(); i += stride) {
+    reference->push_back((*cloud)[i]);
+    residuals.push_back(raw[i] - smoothed[i]);
+  }
+  FlannSearch search(true);
+  search.setInputCloud(reference);
+  const int fewest = static_cast<int>(std::min(kBiasNeighbours, reference->size()));
+  std::vector<Vec3> mean_residual(reference->size(), Vec3::Zero());
+  const auto references = static_cast<std::ptrdiff_t>(reference->size());
+#pragma omp parallel
+  {
+    pcl::Indices around;
+    std::vector<float> squared;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t r = 0; r < references; ++r) {
+      if (search.radiusSearch((*reference)[r], radius, around, squared) < fewest)
+        search.nearestKSearch((*reference)[r], fewest, around, squared);
+      for (int j : around) mean_residual[r] += residuals[j];
+      mean_residual[r] /= static_cast<double>(around.size());
+    }
+  }
+  const auto count = static_cast<std::ptrdiff_t>(smoothed.size());
+  const int blended = static_cast<int>(std::min<std::size_t>(kBiasBlended, reference->size()));
+#pragma omp parallel
+  {
+    pcl::Indices nearest;
+    std::vector<float> squared;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      const Vec3& normal = normals[i];
+      if (!normal.allFinite()) continue;
+      search.nearestKSearch((*cloud)[i], blended, nearest, squared);
+      // Inverse-distance weights: no step where the nearest reference changes.
+      Vec3 bias = Vec3::Zero();
+      double weights = 0.0;
+      for (std::size_t c = 0; c < nearest.size(); ++c) {
+        const double weight = 1.0 / (std::sqrt(static_cast<double>(squared[c])) + 1e-12 * radius);
+        bias += weight * mean_residual[nearest[c]];
+        weights += weight;
+      }
+      smoothed[i] += (bias / weights).dot(normal) * normal;
+    }
+  }
 }
 
 double mls_deviation(const std::vector<Vec3>& points, double radius, int samples) {

@@ -357,6 +357,23 @@ void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& no
   for (std::size_t w = 0; w < wanted.size(); ++w) normals[wanted[w]] = filled[w];
 }
 
+void refit_given_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k,
+                         std::vector<Vec3> fitted) {
+  // cos 60°: a fit further off the file's normal is not trusted to read the surface.
+  constexpr double kLeastAgreement = 0.5;
+  fill_missing_normals(points, normals, k);
+  if (fitted.empty()) {
+    if (static_cast<int>(points.size()) < k + 1) return;
+    fitted = fitted_normals(points, k_nearest_all(points, k));
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!fitted[i].allFinite() || !(fitted[i].norm() > 0.0)) continue;
+    const Vec3 fit = fitted[i].normalized();
+    const double cosine = fit.dot(normals[i].normalized());
+    if (std::abs(cosine) >= kLeastAgreement) normals[i] = cosine < 0.0 ? Vec3(-fit) : fit;
+  }
+}
+
 void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k) {
   NormalOptions{k}.validate();
   if (normals.size() != points.size())

@@ -34,6 +34,8 @@ constexpr std::size_t kMinPointsForNoise = kFewestNoiseNeighbours;
 // A deviation from the smoothed surface more than this many times the noise sets the smoothing's
 // scale, at most kMaxScaleInNoises times the noise.
 constexpr double kScaleRaise = 1.1, kMaxScaleInNoises = 1.5;
+// The smoothing's bias is averaged over this fraction of its support radius.
+constexpr double kBiasRadiusInSupports = 0.5;
 // Fewer points than this would starve the optimisation: a budget below is a mistake.
 constexpr int kMinMaxPoints = 1000;
 // Points at which the smoothing's deviation is measured: a median over a few thousand is stable
@@ -225,18 +227,21 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
     }
   }
   report.mls_radius = radius_for(scale);
-  const std::vector<Vec3> raw = surface.points;
+  std::vector<Vec3> raw = surface.points;
   std::vector<Vec3> normals = smooth_mls(surface.points, report.mls_radius);
   const std::vector<int> supported = supported_by_noise(
       surface.points, raw, std::max(scale, 2.0 * report.noise.spacing));
   drop_all_but(supported, surface, report);
   keep_only(normals, supported);
+  keep_only(raw, supported);
+  restore_smoothing_bias(surface.points, normals, raw, kBiasRadiusInSupports * report.mls_radius);
   report.residual_noise = estimate_noise(surface.points).sigma;
   return normals;
 }
 
 // A cloud's normals: the smoothed surface's when it was smoothed, estimated when the file has
-// none (or they are not wanted), else the file's, completed and, when asked, re-oriented.
+// none (or they are not wanted), else the file's signs on the normals of the surface (smoothed or
+// fitted to the points), and, when asked, re-oriented.
 void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOptions& options,
                    std::vector<Vec3> smoothed_normals) {
   const bool estimate = !surface.has_normals() || options.estimate_normals;
@@ -250,7 +255,8 @@ void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOp
     surface.normals = estimate_normals(surface.points, options.normals);
     report.normals_estimated = true;
   } else {
-    fill_missing_normals(surface.points, surface.normals, options.normals.k);
+    refit_given_normals(surface.points, surface.normals, options.normals.k,
+                        std::move(smoothed_normals));
     if (options.orient_normals) {
       orient_normals(surface.points, surface.normals, options.normals.k);
       report.normals_oriented = true;

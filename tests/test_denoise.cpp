@@ -250,6 +250,10 @@ TEST(PrepareNoisy, NormalsAgreeInSignAtTwoPercentNoise) {
   }
 }
 
+// No sphere reaches out of the capsule by more than the noise explains: the smoothed points keep
+// a residual noise (half the noise here) and a sphere can touch one of its peaks, up to 1.6 σ past
+// the surface over 24 seeds (`sample_capsule` seeds 100-123); a sphere on a stray or a bulge
+// through the surface goes far beyond 2 σ.
 TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
   const double radius = 0.4, length = 2.0;
   const Sample shape = test::sample_capsule(radius, length, 20000, 13);
@@ -265,7 +269,7 @@ TEST(PrepareNoisy, SpheresStayInsideTheCapsule) {
   for (const Sphere& s : report.frame.to_input(skeletonizer.medial_mesh()).spheres) {
     const double z = std::clamp(s.center.z(), 0.0, length);
     const double reach = (s.center - Vec3(0.0, 0.0, z)).norm() + s.radius;
-    EXPECT_LE(reach, radius + sigma) << "sphere at " << s.center.transpose() << ", radius "
+    EXPECT_LE(reach, radius + 2.0 * sigma) << "sphere at " << s.center.transpose() << ", radius "
                                      << s.radius;
   }
 }
@@ -308,6 +312,28 @@ TEST(PrepareNoisy, NoiseOfACloudIsMeasuredAtEveryLevel) {
     const double measured = report.frame.scale * report.noise.sigma;
     EXPECT_GT(measured, 0.75 * sigma) << "noise " << fraction;
     EXPECT_LT(measured, 1.25 * sigma) << "noise " << fraction;
+  }
+}
+
+// A support wider than the tube's curvature rounds the tube's fit off toward its core circle: the
+// smoothed points sat 0.15 σ (1 %) and 0.49 σ (2 %) inside the torus on average before the
+// residuals' local mean was put back, 0.00 and 0.07 σ outside after.
+TEST(PrepareNoisy, SmoothingDoesNotShrinkTheShape) {
+  const double major = 1.0, minor = 0.25;
+  const Sample torus = test::sample_torus(major, minor, 30000, 23);
+  const double diagonal = test::bounding_diagonal(torus.points);
+  for (double fraction : {0.01, 0.02}) {
+    SurfaceInput cloud;
+    cloud.points = test::with_noise(torus.points, fraction * diagonal, 24);
+    const PrepareReport report = prepare_surface(cloud, {});
+    ASSERT_TRUE(report.smoothed()) << "noise " << fraction;
+    double offset = 0.0;  // signed distance to the torus, outside positive
+    for (const Vec3& working : cloud.points) {
+      const Vec3 p = report.frame.to_input(working);
+      offset += std::hypot(std::hypot(p.x(), p.y()) - major, p.z()) - minor;
+    }
+    offset /= static_cast<double>(cloud.points.size());
+    EXPECT_LT(std::abs(offset), 0.1 * fraction * diagonal) << "noise " << fraction;
   }
 }
 

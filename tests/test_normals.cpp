@@ -256,5 +256,39 @@ TEST(FillMissingNormals, EstimatesOnlyTheMissingOnesWithTheirNeighboursSign) {
   }
 }
 
+// Normals exact for the facets a cloud was sampled from, or for each point alone, tilt from point
+// to point: the refit gives the surface's normal at the sampling's scale and keeps each file
+// normal's sign, inward ones too; a missing one is filled.
+TEST(RefitGivenNormals, TiltedNormalsComeBackToTheSurfaceWithTheirOwnSigns) {
+  const Sample sphere = sample_sphere(Vec3(0.3, 0.1, -0.2), 0.9, 3000, 11);
+  std::mt19937 rng(4);
+  std::vector<Vec3> normals(sphere.normals.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const Vec3 tilted = (sphere.normals[i] + 0.45 * test::random_unit(rng)).normalized();
+    normals[i] = i % 3 == 0 ? -tilted : tilted;
+  }
+  normals[5] = Vec3::Constant(std::nan(""));
+  const std::vector<Vec3> given = normals;
+  ASSERT_LT(count_within_degrees(given, sphere.normals, 10.0), 1500);
+  refit_given_normals(sphere.points, normals, NormalOptions{}.k);
+  expect_unit_and_finite(normals);
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const Vec3 expected = i % 3 == 0 ? Vec3(-sphere.normals[i]) : sphere.normals[i];
+    EXPECT_GT(normals[i].dot(expected), std::cos(5.0 * M_PI / 180.0)) << i;
+  }
+}
+
+// Where the fit disagrees with the file's normal by more than 60 degrees (a fit straddling two
+// sheets or an edge), the file's normal stays.
+TEST(RefitGivenNormals, KeepsTheFileNormalWhereTheFitDisagrees) {
+  const Sample sphere = sample_sphere(Vec3::Zero(), 1.0, 2000, 3);
+  std::vector<Vec3> normals = sphere.normals;
+  const Vec3 tangent = sphere.normals[7].unitOrthogonal();
+  normals[7] = tangent;
+  refit_given_normals(sphere.points, normals, NormalOptions{}.k);
+  EXPECT_EQ(normals[7], tangent);
+  EXPECT_GT(normals[8].dot(sphere.normals[8]), 0.999);
+}
+
 }  // namespace
 }  // namespace vmas
