@@ -415,7 +415,10 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput
       unsmoothed.result.prepare.diagonal > 0.0 ? unsmoothed.result.prepare.diagonal : 1.0;
   check.smoothed_reach = judge(smoothed.medial).medial_to_surface_max / diagonal;
   check.unsmoothed_reach = judge(unsmoothed.medial).medial_to_surface_max / diagonal;
-  check.smoothing_kept = check.smoothed_reach <= check.unsmoothed_reach;
+  // Both are measured against noisy points: a difference within their noise tells nothing.
+  const PrepareReport& prepared = smoothed.result.prepare;
+  const double noise = prepared.diagonal > 0.0 ? prepared.noise.sigma / prepared.diagonal : 0.0;
+  check.smoothing_kept = check.smoothed_reach <= check.unsmoothed_reach + noise;
   const double judging = seconds_since(judging_start);
   if (!check.smoothing_kept) {
     unsmoothed.result.prepare.noise = smoothed.result.prepare.noise;  // as measured

@@ -58,8 +58,8 @@ struct Warning {
 
 // When the noise of a cloud was smoothed and the skeleton came out far from the data
 // (large-error), the points were skeletonized a second time as they are, and both skeletons
-// measured against them: the one reaching less far past them is the result (lengths: fraction
-// of the diagonal).
+// measured against them: the one reaching less far past them is the result, the smoothed one
+// when they differ by less than the noise (lengths: fraction of the diagonal).
 struct SmoothingCheck {
   bool made = false;
   bool smoothing_kept = true;     // false: the result is that of the unsmoothed points
