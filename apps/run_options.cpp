@@ -107,8 +107,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
        "points (moving least squares) before the run; off: take the points as they are; or the "
        "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
-      ("orient-normals", "keep the file's normals but re-orient them consistently and outward "
-       "(for normals with arbitrary signs, e.g. oriented towards a scanner)")
+      ("orient-normals", "orient the file's normals consistently and outward instead of keeping "
+       "their signs (for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
       ("no-coarse-start", "with --spheres: grow the spheres on the whole shape from the start "
        "instead of on a coarsened copy (slower)")

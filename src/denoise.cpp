@@ -44,7 +44,8 @@ namespace {
 // Median of |x| for a standard normal x: a robust deviation is a median distance over this.
 constexpr double kHalfNormalMedian = 0.6745;
 // restore_smoothing_bias: residuals are averaged over the points within the radius, at least
-// this many (their noise falls to a tenth), of an even subset of about this many.
+// this many (their noise falls to a tenth), of an even subset of every (n / this)-th point (8 000
+// to 16 000 points; all below 16 000).
 constexpr std::size_t kBiasNeighbours = 128, kBiasReferencePoints = 8000;
 // ... and a point takes a blend of the figures of this many nearest of the subset.
 constexpr std::size_t kBiasBlended = 4;
@@ -675,7 +676,7 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
 
 void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>& normals,
                             const std::vector<Vec3>& raw, double radius) {
-  if (smoothed.empty()) return;
+  if (smoothed.empty() || !(radius > 0.0)) return;
   Vec3 centroid;
   const auto cloud = centred_cloud(smoothed, centroid);
   // The bias varies over the smoothing's support, not from point to point: it is measured around
@@ -689,7 +690,7 @@ void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>
   }
   FlannSearch search(true);
   search.setInputCloud(reference);
-  const int fewest = static_cast<int>(std::min(kBiasNeighbours, reference->size()));
+  const int least_neighbours = static_cast<int>(std::min(kBiasNeighbours, reference->size()));
   std::vector<Vec3> mean_residual(reference->size(), Vec3::Zero());
   const auto references = static_cast<std::ptrdiff_t>(reference->size());
 #pragma omp parallel
@@ -698,14 +699,14 @@ void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>
     std::vector<float> squared;
 #pragma omp for schedule(static)
     for (std::ptrdiff_t r = 0; r < references; ++r) {
-      if (search.radiusSearch((*reference)[r], radius, around, squared) < fewest)
-        search.nearestKSearch((*reference)[r], fewest, around, squared);
+      if (search.radiusSearch((*reference)[r], radius, around, squared) < least_neighbours)
+        search.nearestKSearch((*reference)[r], least_neighbours, around, squared);
       for (int j : around) mean_residual[r] += residuals[j];
       mean_residual[r] /= static_cast<double>(around.size());
     }
   }
   const auto count = static_cast<std::ptrdiff_t>(smoothed.size());
-  const int blended = static_cast<int>(std::min<std::size_t>(kBiasBlended, reference->size()));
+  const int blend_count = static_cast<int>(std::min(kBiasBlended, reference->size()));
 #pragma omp parallel
   {
     pcl::Indices nearest;
@@ -714,16 +715,17 @@ void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       const Vec3& normal = normals[i];
       if (!normal.allFinite()) continue;
-      search.nearestKSearch((*cloud)[i], blended, nearest, squared);
-      // Inverse-distance weights: no step where the nearest reference changes.
+      search.nearestKSearch((*cloud)[i], blend_count, nearest, squared);
+      // Inverse-distance weights: a change of the nearest reference makes no step, only a change
+      // of the farthest of the few blended, where its weight is least.
       Vec3 bias = Vec3::Zero();
-      double weights = 0.0;
+      double weight_sum = 0.0;
       for (std::size_t c = 0; c < nearest.size(); ++c) {
         const double weight = 1.0 / (std::sqrt(static_cast<double>(squared[c])) + 1e-12 * radius);
         bias += weight * mean_residual[nearest[c]];
-        weights += weight;
+        weight_sum += weight;
       }
-      smoothed[i] += (bias / weights).dot(normal) * normal;
+      smoothed[i] += (bias / weight_sum).dot(normal) * normal;
     }
   }
 }

@@ -74,7 +74,7 @@ double smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 
 // Moves every point of `smoothed` (from `raw`, in the same order) along its unit normal (NaN:
 // stays) by the mean offset along that normal of the raw points from their smoothed positions:
 // the mean residual vector over the points within `radius` (at least the 128 nearest) of an even
-// subset of 8 000, blended between the 4 subset points nearest to the point. A large support's
+// subset (every ⌊n / 8000⌋-th point), blended between the 4 subset points nearest to the point. A large support's
 // fit rounds curved parts off and pulls them toward their centre (the bear at σ = 3 %: 1.8 % of
 // the diagonal inward), while the noise itself averages out: the residuals' local mean is the
 // smoothing's bias (Tukey's "twicing").

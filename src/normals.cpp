@@ -361,6 +361,9 @@ void refit_given_normals(const std::vector<Vec3>& points, std::vector<Vec3>& nor
                          std::vector<Vec3> fitted) {
   // cos 60°: a fit further off the file's normal is not trusted to read the surface.
   constexpr double kLeastAgreement = 0.5;
+  if (normals.size() != points.size() || (!fitted.empty() && fitted.size() != points.size()))
+    throw InvalidInput("cannot refit " + std::to_string(normals.size()) + " normals for " +
+                       std::to_string(points.size()) + " points");
   fill_missing_normals(points, normals, k);
   if (fitted.empty()) {
     if (static_cast<int>(points.size()) < k + 1) return;
@@ -369,7 +372,7 @@ void refit_given_normals(const std::vector<Vec3>& points, std::vector<Vec3>& nor
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!fitted[i].allFinite() || !(fitted[i].norm() > 0.0)) continue;
     const Vec3 fit = fitted[i].normalized();
-    const double cosine = fit.dot(normals[i].normalized());
+    const double cosine = fit.dot(normals[i].stableNormalized());
     if (std::abs(cosine) >= kLeastAgreement) normals[i] = cosine < 0.0 ? Vec3(-fit) : fit;
   }
 }

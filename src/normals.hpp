@@ -22,7 +22,8 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const Normal
 // benchmark's clean clouds with their facets' normals: ε 1.24 → 1.06 % on average). A file normal
 // stays where the fit is unknown or more than 60 degrees off it (a fit straddling two sheets or an
 // edge), and where the cloud is too small for fits. NaN or zero file normals are filled first
-// (fill_missing_normals, which throws for fewer than k + 1 points).
+// (fill_missing_normals, which throws for fewer than k + 1 points); a file normal that stays
+// keeps its length. Throws InvalidInput when the sizes differ.
 void refit_given_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k,
                          std::vector<Vec3> fitted = {});
 

@@ -416,8 +416,7 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput
   check.smoothed_reach = judge(smoothed.medial).medial_to_surface_max / diagonal;
   check.unsmoothed_reach = judge(unsmoothed.medial).medial_to_surface_max / diagonal;
   // Both are measured against noisy points: a difference within their noise tells nothing.
-  const PrepareReport& prepared = smoothed.result.prepare;
-  const double noise = prepared.diagonal > 0.0 ? prepared.noise.sigma / prepared.diagonal : 0.0;
+  const double noise = smoothed.result.prepare.noise.sigma / diagonal;
   check.smoothing_kept = check.smoothed_reach <= check.unsmoothed_reach + noise;
   const double judging = seconds_since(judging_start);
   if (!check.smoothing_kept) {

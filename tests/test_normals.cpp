@@ -285,6 +285,9 @@ TEST(RefitGivenNormals, KeepsTheFileNormalWhereTheFitDisagrees) {
   std::vector<Vec3> normals = sphere.normals;
   const Vec3 tangent = sphere.normals[7].unitOrthogonal();
   normals[7] = tangent;
+  // 40 degrees off: within the 60 the fit is trusted, so it comes back.
+  const Vec3 away = sphere.normals[8].unitOrthogonal();
+  normals[8] = (sphere.normals[8] + std::tan(40.0 * M_PI / 180.0) * away).normalized();
   refit_given_normals(sphere.points, normals, NormalOptions{}.k);
   EXPECT_EQ(normals[7], tangent);
   EXPECT_GT(normals[8].dot(sphere.normals[8]), 0.999);

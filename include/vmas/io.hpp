@@ -32,7 +32,8 @@ SurfaceInput read_surface_as_stored(const std::string& path);
 // Gives every point whose normal is missing (NaN or zero: a file that has normals for some
 // points only) the normal of the plane through its k nearest neighbours (NormalOptions::k in
 // vmas::skeletonize), with the sign its neighbours' given normals agree on; given normals are
-// left as they are. Throws InvalidInput for fewer than k + 1 points when a normal is missing.
+// left as they are (vmas::skeletonize then gives their signs to the surface's normals:
+// docs/cli.md, inputs). Throws InvalidInput for fewer than k + 1 points when a normal is missing.
 void fill_missing_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
 
 // Writes a mesh or cloud: .ply (binary little-endian, float coordinates, with normals if

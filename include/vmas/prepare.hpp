@@ -50,7 +50,7 @@ struct PrepareOptions {
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
   bool estimate_normals = false;    // clouds: estimate even when the file has normals
-  bool orient_normals = false;      // clouds: re-orient the file's normals
+  bool orient_normals = false;      // clouds: re-orient the surface's normals (signs not trusted)
   NormalOptions normals;
   DenoiseOptions noise;
   void validate() const;  // throws InvalidOption
