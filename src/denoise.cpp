@@ -43,9 +43,11 @@ namespace {
 
 // Median of |x| for a standard normal x: a robust deviation is a median distance over this.
 constexpr double kHalfNormalMedian = 0.6745;
-// restore_smoothing_bias: residuals are averaged over the points within the radius, at least
-// this many (their noise falls to a tenth), of an even subset of every (n / this)-th point (8 000
-// to 16 000 points; all below 16 000).
+// restore_smoothing_bias: residuals are averaged over the points within this fraction of the
+// smoothing's support radius, ...
+constexpr double kBiasRadiusInSupports = 0.5;
+// ... at least this many (their noise falls to a tenth), of an even subset of every
+// (n / this)-th point (8 000 to 16 000 points; all below 16 000).
 constexpr std::size_t kBiasNeighbours = 128, kBiasReferencePoints = 8000;
 // ... and a point takes a blend of the figures of this many nearest of the subset.
 constexpr std::size_t kBiasBlended = 4;
@@ -675,7 +677,8 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
 }
 
 void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>& normals,
-                            const std::vector<Vec3>& raw, double radius) {
+                            const std::vector<Vec3>& raw, double support) {
+  const double radius = kBiasRadiusInSupports * support;
   if (smoothed.empty() || !(radius > 0.0)) return;
   Vec3 centroid;
   const auto cloud = centred_cloud(smoothed, centroid);

@@ -71,15 +71,15 @@ std::vector<int> supported_by_noise(const std::vector<Vec3>& smoothed, const std
 double smooth_mesh(std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
                    int steps);
 
-// Moves every point of `smoothed` (from `raw`, in the same order) along its unit normal (NaN:
-// stays) by the mean offset along that normal of the raw points from their smoothed positions:
-// the mean residual vector over the points within `radius` (at least the 128 nearest) of an even
-// subset (every ⌊n / 8000⌋-th point), blended between the 4 subset points nearest to the point. A large support's
-// fit rounds curved parts off and pulls them toward their centre (the bear at σ = 3 %: 1.8 % of
-// the diagonal inward), while the noise itself averages out: the residuals' local mean is the
-// smoothing's bias (Tukey's "twicing").
+// Moves every point of `smoothed` (smooth_mls of `raw` with radius `support`, in the same order)
+// along its unit normal (NaN: stays) by the mean offset along that normal of the raw points from
+// their smoothed positions: the mean residual vector over the points within half the support (at
+// least the 128 nearest) of an even subset (every ⌊n / 8000⌋-th point), blended between the 4
+// subset points nearest to the point. A large support's fit rounds curved parts off and pulls
+// them toward their centre (the bear at σ = 3 %: 1.8 % of the diagonal inward), while the noise
+// itself averages out: the residuals' local mean is the smoothing's bias (Tukey's "twicing").
 void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>& normals,
-                            const std::vector<Vec3>& raw, double radius);
+                            const std::vector<Vec3>& raw, double support);
 
 // The robust deviation (median distance / 0.6745) by which smooth_mls(points, radius) would move
 // the points, measured at about `samples` of them spread evenly through the array: the surface

@@ -34,8 +34,6 @@ constexpr std::size_t kMinPointsForNoise = kFewestNoiseNeighbours;
 // A deviation from the smoothed surface more than this many times the noise sets the smoothing's
 // scale, at most kMaxScaleInNoises times the noise.
 constexpr double kScaleRaise = 1.1, kMaxScaleInNoises = 1.5;
-// The smoothing's bias is averaged over this fraction of its support radius.
-constexpr double kBiasRadiusInSupports = 0.5;
 // Fewer points than this would starve the optimisation: a budget below is a mistake.
 constexpr int kMinMaxPoints = 1000;
 // Points at which the smoothing's deviation is measured: a median over a few thousand is stable
@@ -234,7 +232,7 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
   drop_all_but(supported, surface, report);
   keep_only(normals, supported);
   keep_only(raw, supported);
-  restore_smoothing_bias(surface.points, normals, raw, kBiasRadiusInSupports * report.mls_radius);
+  restore_smoothing_bias(surface.points, normals, raw, report.mls_radius);
   report.residual_noise = estimate_noise(surface.points).sigma;
   return normals;
 }
