@@ -247,7 +247,7 @@ void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOp
     // The MLS normals are those of the smoothed surface at the noise's scale: better than a
     // fresh fit to a few neighbours; only their signs are missing.
     surface.normals = std::move(smoothed_normals);
-    orient_normals(surface.points, surface.normals, options.normals.k);
+    orient_smoothed_normals(surface.points, surface.normals, options.normals.k);
     report.normals_estimated = true;
   } else if (estimate) {
     surface.normals = estimate_normals(surface.points, options.normals);
