@@ -23,7 +23,8 @@ std::vector<double> visibility_votes(const std::vector<Vec3>& points,
   std::vector<double> votes(count, 0.0);
   if (count == 0) return votes;
   // At most about 4 pixels per point in a view, whatever `pixel` says (duplicates, a spacing of 0).
-  pixel = std::max(pixel, bounding_box(points).sizes().norm() / (2.0 * std::sqrt(static_cast<double>(count))));
+  pixel = std::max(
+      pixel, bounding_box(points).sizes().norm() / (2.0 * std::sqrt(static_cast<double>(count))));
   if (!(pixel > 0.0)) return votes;
   std::vector<int> seen(count, 0);
   std::vector<std::ptrdiff_t> cell(count);
@@ -45,7 +46,8 @@ std::vector<double> visibility_votes(const std::vector<Vec3>& points,
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(count); ++i) {
       const Vec3& p = points[i];
-      const auto column = std::min(static_cast<std::ptrdiff_t>((p.dot(u) - u_min) / pixel), columns - 1);
+      const auto column =
+          std::min(static_cast<std::ptrdiff_t>((p.dot(u) - u_min) / pixel), columns - 1);
       const auto row = std::min(static_cast<std::ptrdiff_t>((p.dot(v) - v_min) / pixel), rows - 1);
       cell[i] = row * columns + column;
       depth[i] = p.dot(d);
