@@ -215,11 +215,34 @@ double median_spacing(const std::vector<Vec3>& points, const Neighbourhoods& nei
   return *middle;
 }
 
+// How the normals at the two ends of each k-NN edge agree, and how much the edge crosses between
+// sheets (row-major, as the neighbourhoods; the score smoothing reads every edge at each step).
+struct EdgeReading {
+  double agreement = 0.0, cross_sheet = 1.0;
+};
+
+std::vector<EdgeReading> read_edges(const std::vector<Vec3>& points,
+                                    const std::vector<Vec3>& normals,
+                                    const Neighbourhoods& neighbours) {
+  std::vector<EdgeReading> edges(neighbours.indices.size());
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < neighbours.size(); ++i)
+    for (int c = 0; c < neighbours.width; ++c) {
+      const int j = neighbours.row(i)[c];
+      if (j == i) continue;
+      const Vec3 direction = (points[j] - points[i]).stableNormalized();
+      EdgeReading& edge = edges[static_cast<std::size_t>(i) * neighbours.width + c];
+      edge.agreement = agreement(normals[i], normals[j], direction);
+      edge.cross_sheet = cross_sheet(normals[i], normals[j], direction);
+    }
+  return edges;
+}
+
 // One step of smoothing the visibility scores over the k-NN graph: each point keeps half its
 // score and takes half its neighbours' mean, each carried over with the sign the two normals'
 // agreement gives and weighted by how clear that agreement is (nothing across sheets).
-std::vector<double> smooth_scores(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                  const Neighbourhoods& neighbours,
+std::vector<double> smooth_scores(const Neighbourhoods& neighbours,
+                                  const std::vector<EdgeReading>& edges,
                                   const std::vector<double>& scores) {
   std::vector<double> smoothed(scores.size());
 #pragma omp parallel for schedule(static)
@@ -229,11 +252,9 @@ std::vector<double> smooth_scores(const std::vector<Vec3>& points, const std::ve
     for (int c = 0; c < neighbours.width; ++c) {
       const int j = neighbours.row(i)[c];
       if (j == i) continue;
-      const Vec3 direction = (points[j] - points[i]).stableNormalized();
-      const double agree = agreement(normals[i], normals[j], direction);
-      const double clarity =
-          std::max(std::abs(agree) - cross_sheet(normals[i], normals[j], direction), 0.0);
-      sum += std::copysign(clarity, agree) * scores[j];
+      const EdgeReading& edge = edges[static_cast<std::size_t>(i) * neighbours.width + c];
+      const double clarity = std::max(std::abs(edge.agreement) - edge.cross_sheet, 0.0);
+      sum += std::copysign(clarity, edge.agreement) * scores[j];
       ++terms;
     }
     smoothed[i] = 0.5 * scores[i] + (terms > 0 ? 0.5 * sum / terms : 0.0);
@@ -259,10 +280,11 @@ void orient_smoothed_normals(const std::vector<Vec3>& points, std::vector<Vec3>&
   if (points.empty()) return;
   const Neighbourhoods neighbours = k_nearest_all(points, k);
   orient(points, normals, neighbours);
+  const std::vector<EdgeReading> edges = read_edges(points, normals, neighbours);
   std::vector<double> scores = visibility_votes(
       points, normals, kPixelInSpacings * median_spacing(points, neighbours));
   for (int step = 0; step < kScoreSmoothingSteps; ++step)
-    scores = smooth_scores(points, normals, neighbours, scores);
+    scores = smooth_scores(neighbours, edges, scores);
   // The regions where the views disagree with the tree, joined along clear edges.
   const int count = static_cast<int>(points.size());
   DisjointSets regions(count);
@@ -271,10 +293,8 @@ void orient_smoothed_normals(const std::vector<Vec3>& points, std::vector<Vec3>&
     for (int c = 0; c < neighbours.width; ++c) {
       const int j = neighbours.row(i)[c];
       if (j == i || !(scores[j] < 0.0)) continue;
-      const Vec3 direction = (points[j] - points[i]).stableNormalized();
-      if (agreement(normals[i], normals[j], direction) > 0.0 &&
-          cross_sheet(normals[i], normals[j], direction) < 0.5)
-        regions.unite(i, j);
+      const EdgeReading& edge = edges[static_cast<std::size_t>(i) * neighbours.width + c];
+      if (edge.agreement > 0.0 && edge.cross_sheet < 0.5) regions.unite(i, j);
     }
   }
   std::vector<int> region_size(count, 0);
