@@ -103,7 +103,12 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
                 ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
                       " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
                 : "; smoothed (MLS radius " + noise["mls_radius_percent"].dump() + " %, left ~" +
-                      noise["residual_percent"].dump() + " %)");
+                      noise["residual_percent"].dump() + " %)" +
+                      (noise["thinned_points"].get<int>() > 0
+                           ? ", " + noise["thinned_points"].dump() +
+                                 " of its points take part (one per voxel of " +
+                                 noise["thinned_voxel_percent"].dump() + " %)"
+                           : std::string()));
   const json& check = noise["smoothing_check"];
   if (check["made"].get<bool>())
     out << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "

@@ -49,6 +49,9 @@ void ShrinkingBallOptions::validate() const {
   if (!(tolerance >= 0.0 && tolerance < 0.1))
     throw InvalidOption("tolerance",
                         "must be in [0, 0.1) (got " + std::to_string(tolerance) + ")");
+  if (!(enclosure < 0.0 || std::isfinite(enclosure)))
+    throw InvalidOption("enclosure", "must be finite or negative (got " +
+                                         std::to_string(enclosure) + ")");
   if (!(box_margin >= 0.0 && box_margin <= 1.0))
     throw InvalidOption("shrinking-ball box margin must be in [0, 1] (got " +
                         std::to_string(box_margin) + ")");
@@ -89,7 +92,7 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
           std::max(block.radius, (shape.points[blocks.vertices[k]] - block.center).norm());
   }
   // Inside and outside mean something only for data that encloses a volume.
-  enclosure_ = measure_enclosure();
+  enclosure_ = options_.enclosure >= 0.0 ? options_.enclosure : measure_enclosure();
   // A cloud's normals can be wrong where estimation fails (thin parts, sparse or noisy samples),
   // and so can the winding number built on them; the voxels the samples wall off are not.
   if (!shape.is_mesh) {

@@ -193,6 +193,17 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 
   adapt_shrinking_ball(result.prepare, prepared.run.shrinking_ball);
   const auto shape_start = Clock::now();
+  // A smoothed cloud runs on fewer points. Whether it encloses a volume is judged on all of them:
+  // the estimate reads low next to parts thinner than the thinned points' spacing.
+  const int spheres = prepared.run.target.count() > 0 ? prepared.run.target.count()
+                                                      : prepared.run.max_spheres;
+  const std::size_t needed = smoothed_points_needed(surface, result.prepare, spheres);
+  if (needed < surface.points.size()) {
+    prepared.run.shrinking_ball.enclosure =
+        MedialProjector(build_shape(surface, options.shape), prepared.run.shrinking_ball)
+            .enclosure();
+    thin_smoothed_cloud(surface, result.prepare, needed);
+  }
   prepared.shape = build_shape(surface, options.shape);
   prepared.surface = std::move(surface);
   result.input_components = component_count(prepared.shape);

@@ -401,5 +401,45 @@ TEST(PrepareOff, TakesThePointsAsTheyAre) {
   EXPECT_TRUE(report.normals_estimated);
 }
 
+// A smoothed cloud holds no detail finer than its noise: the run takes its points about 0.7
+// noises apart (at least 50 per sphere), every input point still labelled, and whether it
+// encloses a volume is judged on all of them.
+TEST(PrepareNoisy, ASmoothedCloudRunsOnFewerPointsAndIsStillClosed) {
+  const Sample shape = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 15);
+  SurfaceInput input;
+  input.points = test::with_noise(shape.points, 0.02 * test::bounding_diagonal(shape.points), 16);
+  Options options;
+  options.run.target.spheres = 20;
+  const Result result = skeletonize(input, options);
+  const PrepareReport& report = result.prepare;
+  ASSERT_TRUE(report.smoothed());
+  EXPECT_EQ(report.smoothed_thinned_from + report.outliers, input.points.size());
+  EXPECT_LT(report.kept.size(), report.smoothed_thinned_from);
+  EXPECT_GE(report.kept.size(), 0.8 * 50 * 20);
+  EXPECT_GT(report.smoothed_voxel, 0.0);
+  EXPECT_GT(result.enclosure, 0.8);
+  EXPECT_EQ(std::count(result.labels.begin(), result.labels.end(), -1),
+            static_cast<std::ptrdiff_t>(report.outliers));
+  for (const Sphere& s : result.medial_mesh.spheres)
+    EXPECT_LE(s.center.norm() + s.radius, 1.0 + 2.0 * 0.02 * test::bounding_diagonal(shape.points));
+}
+
+TEST(PrepareNoisy, OnlyASmoothedCloudIsThinnedForItsRun) {
+  const Sample shape = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 17);
+  SurfaceInput clean;
+  clean.points = shape.points;
+  const PrepareReport clean_report = prepare_surface(clean, {});
+  EXPECT_EQ(smoothed_points_needed(clean, clean_report, 20), clean.points.size());
+  SurfaceInput noisy;
+  noisy.points = test::with_noise(shape.points, 0.02 * test::bounding_diagonal(shape.points), 18);
+  const PrepareReport noisy_report = prepare_surface(noisy, {});
+  EXPECT_EQ(smoothed_points_needed(noisy, noisy_report, 0), noisy.points.size());  // unknown
+  const std::size_t needed = smoothed_points_needed(noisy, noisy_report, 20);
+  EXPECT_LT(needed, noisy.points.size());
+  EXPECT_GE(needed, 20u * 50u);
+  // Never fewer than 50 points per sphere.
+  EXPECT_EQ(smoothed_points_needed(noisy, noisy_report, 1000), noisy.points.size());
+}
+
 }  // namespace
 }  // namespace vmas

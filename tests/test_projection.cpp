@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "test_shapes.hpp"
+#include "vmas/error.hpp"
 #include "vmas/projection.hpp"
 #include "vmas/shape.hpp"
 
@@ -122,6 +123,22 @@ TEST(Projection, AnOpenCloudHasNoExteriorGrid) {
     EXPECT_EQ(ball.center, unguarded.ball_at(v).center) << "vertex " << v;
     EXPECT_EQ(ball.radius, unguarded.ball_at(v).radius) << "vertex " << v;
   }
+}
+
+// An enclosure measured elsewhere (on a denser sampling of the same surface) is taken as it is;
+// a figure that is not one is refused.
+TEST(Projection, AGivenEnclosureIsTakenAndChecked) {
+  const test::Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 5000, 48);
+  SurfaceInput cloud;
+  cloud.points = sphere.points;
+  cloud.normals = sphere.normals;
+  const Shape shape = build_shape(cloud, {});
+  EXPECT_NEAR(MedialProjector(shape, {}).enclosure(), 1.0, 0.1);
+  ShrinkingBallOptions given;
+  given.enclosure = 0.25;
+  EXPECT_EQ(MedialProjector(shape, given).enclosure(), 0.25);
+  given.enclosure = std::nan("");
+  EXPECT_THROW(given.validate(), InvalidOption);
 }
 
 }  // namespace

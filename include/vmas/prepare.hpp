@@ -75,6 +75,9 @@ struct PrepareReport {
                                 // (itself, or its voxel's point when thinned; −1: dropped)
   std::size_t thinned_from = 0;  // points before thinning (0: not thinned)
   double voxel = 0.0;            // edge of the thinning grid (absolute, prepared coordinates)
+  std::size_t smoothed_thinned_from = 0;  // smoothed clouds: points before thin_smoothed_cloud
+                                          // (0: not thinned)
+  double smoothed_voxel = 0.0;            // edge of that thinning's grid (absolute)
   std::size_t outliers = 0;     // points dropped as strays or as the noise's fringe
   NoiseEstimate noise;          // as measured (or given), before smoothing
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
@@ -96,6 +99,16 @@ struct PrepareReport {
 // its vertices smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when
 // too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
+
+// How many of a prepared cloud's points a run of `spheres` spheres needs: a smoothed cloud holds
+// no detail finer than its noise, and its points about 0.7 noises apart are enough, but no fewer
+// than 50 per sphere; every point otherwise (a mesh, a clean cloud, or spheres 0: not known).
+std::size_t smoothed_points_needed(const SurfaceInput& surface, const PrepareReport& report,
+                                   int spheres);
+
+// Thins the prepared `surface` (points and normals) to about `budget` points, one per voxel
+// (src/subsample.hpp), when it has more; the report's stand_in and kept follow.
+void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget);
 
 // Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
 // angle about the frame's diagonal: the same points, in coordinates that round differently (and

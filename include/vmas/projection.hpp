@@ -20,6 +20,8 @@ struct ShrinkingBallOptions {
                                     // (when the data encloses a volume); for smoothed noisy data
   double box_margin = 0.01;         // how far past the data's bounding box a ball may reach,
                                     // relative to the diagonal
+  double enclosure = -1.0;          // the shape's enclosure (MedialProjector::enclosure) when
+                                    // measured on a denser sampling of it; < 0: measured here
   void validate() const;            // throws InvalidOption
 };
 
