@@ -446,7 +446,7 @@ const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); 
 
 FinishOptions finish_as_skeletonize_does(const PreparedShape& prepared, const Options& options) {
   FinishOptions finish{prepared.surface, options.refine,
-                       refinement_eval_options(prepared.result.prepare.smoothed()), {}};
+                       refinement_eval_options(prepared), {}};
   // Held by the callback, which only the session's worker calls (one finish at a time).
   auto fresh = std::make_shared<PreparedShape>(prepared);
   finish.fresh_run = [fresh, options](const SkeletonizerOptions& now,

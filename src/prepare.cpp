@@ -318,8 +318,7 @@ std::size_t smoothed_points_needed(const SurfaceInput& surface, const PrepareRep
                                    int spheres) {
   const std::size_t count = surface.points.size();
   const double spacing = kSmoothedSpacingInNoises * report.noise.sigma;
-  if (surface.is_mesh() || report.mls_radius == 0.0 || spheres <= 0 ||
-      !(spacing > report.noise.spacing))
+  if (!report.smoothed() || spheres <= 0 || !(spacing > report.noise.spacing))
     return count;
   const double share = std::pow(report.noise.spacing / spacing, 2);
   return std::min(count, std::max({static_cast<std::size_t>(share * static_cast<double>(count)),

@@ -161,6 +161,11 @@ void Options::validate() const {
 
 namespace {
 
+// The most spheres a run with `run` can end with.
+int spheres_at_most(const SkeletonizerOptions& run) {
+  return run.target.count() > 0 ? run.target.count() : run.max_spheres;
+}
+
 // prepare_shape(), with the progress callback that skeletonize() honours while preparing.
 PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
                                     const ProgressCallback& progress) {
@@ -195,10 +200,9 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   const auto shape_start = Clock::now();
   // A smoothed cloud runs on fewer points. Whether it encloses a volume is judged on all of them:
   // the estimate reads low next to parts thinner than the thinned points' spacing.
-  const int spheres = prepared.run.target.count() > 0 ? prepared.run.target.count()
-                                                      : prepared.run.max_spheres;
-  const std::size_t needed = smoothed_points_needed(surface, result.prepare, spheres);
-  if (needed < surface.points.size()) {
+  const std::size_t needed =
+      smoothed_points_needed(surface, result.prepare, spheres_at_most(prepared.run));
+  if (!surface.is_mesh() && needed < surface.points.size()) {
     prepared.run.shrinking_ball.enclosure =
         MedialProjector(build_shape(surface, options.shape), prepared.run.shrinking_ball)
             .enclosure();
@@ -212,6 +216,15 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 }
 
 }  // namespace
+
+EvalOptions refinement_eval_options(const PreparedShape& prepared) {
+  const PrepareReport& report = prepared.result.prepare;
+  EvalOptions measure = refinement_eval_options(report.smoothed());
+  if (prepared.surface.is_mesh())
+    measure.max_input_points =
+        smoothed_points_needed(prepared.surface, report, spheres_at_most(prepared.run));
+  return measure;
+}
 
 PreparedShape prepare_shape(SurfaceInput input, const Options& options) {
   options.validate();
@@ -248,6 +261,7 @@ PreparedShape turned_copy(const PreparedShape& prepared, int turn, const Options
 // input it was prepared from (one label each).
 Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& options,
               const ProgressCallback& progress) {
+  const EvalOptions measure = refinement_eval_options(prepared);
   Pass pass;
   Result& result = pass.result;
   result = std::move(prepared.result);
@@ -263,7 +277,6 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   Skeletonizer skeletonizer = build();
   // The refinement's evaluator needs only the surface: it is built beside the run (its time is
   // then hidden in the run's, or in the waiting for it at the refinement's start).
-  const EvalOptions measure = refinement_eval_options(result.prepare.smoothed());
   std::future<std::unique_ptr<Evaluator>> evaluator;  // waits for the build when destroyed
   if (options.refine.max_moves > 0)
     evaluator = std::async(std::launch::async, [&surface = prepared.surface, measure] {

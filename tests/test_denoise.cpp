@@ -441,5 +441,30 @@ TEST(PrepareNoisy, OnlyASmoothedCloudIsThinnedForItsRun) {
   EXPECT_EQ(smoothed_points_needed(noisy, noisy_report, 1000), noisy.points.size());
 }
 
+// A smoothed mesh keeps its vertices (its faces are the surface), and the refinement measures
+// on about as many as a smoothed cloud would keep; a clean mesh and a cloud on all their points.
+TEST(PrepareNoisy, ASmoothedMeshIsMeasuredOnFewerOfItsVertices) {
+  const SurfaceInput clean = test::icosphere(Vec3::Zero(), 1.0, 5);
+  SurfaceInput noisy = clean;
+  noisy.points = test::with_noise(clean.points, 0.02 * test::bounding_diagonal(clean.points), 19);
+  Options options;
+  options.run.target.spheres = 20;
+  const PreparedShape smoothed = prepare_shape(noisy, options);
+  ASSERT_TRUE(smoothed.result.prepare.smoothed());
+  ASSERT_TRUE(smoothed.surface.is_mesh());
+  EXPECT_EQ(smoothed.surface.points.size(), noisy.points.size());
+  const std::size_t budget = refinement_eval_options(smoothed).max_input_points;
+  EXPECT_EQ(budget, smoothed_points_needed(smoothed.surface, smoothed.result.prepare, 20));
+  EXPECT_LT(budget, noisy.points.size());
+  EXPECT_GE(budget, 20u * 50u);
+
+  const PreparedShape sharp = prepare_shape(clean, options);
+  ASSERT_FALSE(sharp.result.prepare.smoothed());
+  EXPECT_GE(refinement_eval_options(sharp).max_input_points, clean.points.size());
+  SurfaceInput cloud;
+  cloud.points = noisy.points;
+  EXPECT_EQ(refinement_eval_options(prepare_shape(cloud, options)).max_input_points, 0u);
+}
+
 }  // namespace
 }  // namespace vmas

@@ -265,6 +265,27 @@ TEST(Eval, ShiftedSphereGivesTheShift) {
   EXPECT_LT(result.surface_to_medial_mean, 0.07);
 }
 
+// A dense mesh measured from a voxel subset of its vertices: about as many samples as asked,
+// and maxima close to those from every vertex (the subset is spread over the whole surface).
+TEST(Eval, ASubsetOfTheVerticesGivesAboutTheSameMaxima) {
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 5);  // 10 242 vertices
+  MedialMesh medial;
+  medial.spheres = {{Vec3(0.1, 0.05, 0), 0.9}, {Vec3(-0.2, 0, 0.1), 0.8}};
+  medial.edges = {{0, 1}};
+  EvalOptions options;
+  options.surface_samples = 0;
+  options.maxima_only = true;
+  const EvalResult every = evaluate(mesh, medial, options);
+  EXPECT_EQ(every.surface_sample_count, mesh.points.size());
+  options.max_input_points = 1000;
+  const EvalResult subset = evaluate(mesh, medial, options);
+  EXPECT_LE(subset.surface_sample_count, 1000u);
+  EXPECT_GE(subset.surface_sample_count, 800u);
+  EXPECT_NEAR(subset.surface_to_medial_max, every.surface_to_medial_max, 0.01);
+  EXPECT_LE(subset.surface_to_medial_max, every.surface_to_medial_max);
+  EXPECT_DOUBLE_EQ(subset.medial_to_surface_max, every.medial_to_surface_max);  // the faces
+}
+
 TEST(Eval, CapsuleAgainstItsRoundCone) {
   const SurfaceInput mesh = test::capsule(0.5, 2.0, 16, 64);
   MedialMesh medial;
@@ -605,6 +626,11 @@ TEST(Eval, BadInputsThrow) {
   options = {};
   options.inside_tolerance = -1.0;
   EXPECT_THROW(options.validate(), InvalidOption);
+  options = {};
+  options.max_input_points = 100;  // vertex_error would miss points
+  EXPECT_THROW(options.validate(), InvalidOption);
+  options.maxima_only = true;
+  EXPECT_NO_THROW(options.validate());
 }
 
 // The paper's Table 1 on the reference medial meshes (ε in % of the diagonal).

@@ -100,9 +100,11 @@ struct PrepareReport {
 // too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
 
-// How many of a prepared cloud's points a run of `spheres` spheres needs: a smoothed cloud holds
-// no detail finer than its noise, and its points about 0.7 noises apart are enough, but no fewer
-// than 50 per sphere; every point otherwise (a mesh, a clean cloud, or spheres 0: not known).
+// How many of a prepared surface's points a run of `spheres` spheres needs: a smoothed surface
+// holds no detail finer than its noise, and its points about 0.7 noises apart are enough, but no
+// fewer than 50 per sphere; every point otherwise (a clean surface, or spheres 0: not known). A
+// smoothed cloud is thinned to them (thin_smoothed_cloud); a smoothed mesh keeps its vertices,
+// and the refinement measures on that many (EvalOptions::max_input_points).
 std::size_t smoothed_points_needed(const SurfaceInput& surface, const PrepareReport& report,
                                    int spheres);
 

@@ -107,6 +107,10 @@ struct PreparedShape {
 };
 PreparedShape prepare_shape(SurfaceInput input, const Options& options = {});
 
+// What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
+// its smoothing, and on a smoothed mesh about smoothed_points_needed() of its vertices.
+EvalOptions refinement_eval_options(const PreparedShape& prepared);
+
 // What skeletonize() keeps of the runs on a prepared shape: its starts (options.starts, side by
 // side), each with the final refits and the refinement, and the best (without the check of the
 // smoothing, which needs the input). The state of a Skeletonizer on `prepared.shape` (in its

@@ -10,6 +10,7 @@
 
 #include "eval/envelope.hpp"
 #include "eval/shape_distance.hpp"
+#include "subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 
@@ -135,6 +136,9 @@ void EvalOptions::validate() const {
   if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
     throw InvalidOption("inside_tolerance must be in [0, 0.01] (fraction of the diagonal)");
   }
+  if (max_input_points > 0 && !maxima_only) {
+    throw InvalidOption("max_input_points needs maxima_only (vertex_error has every point)");
+  }
 }
 
 // Hidden like the stages it holds.
@@ -181,6 +185,15 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
   const int random_count =
       options.surface_samples < 0 ? static_cast<int>(shape.points.size()) : options.surface_samples;
   impl_->samples = internal::surface_samples(shape, random_count, options.seed);
+  const std::size_t points = shape.points.size();
+  if (options.max_input_points > 0 && points > options.max_input_points) {
+    const Subsample thin = subsample(shape.points, options.max_input_points);
+    std::vector<Vec3> samples;
+    samples.reserve(thin.kept.size() + impl_->samples.size() - points);
+    for (int i : thin.kept) samples.push_back(shape.points[i]);
+    samples.insert(samples.end(), impl_->samples.begin() + points, impl_->samples.end());
+    impl_->samples = std::move(samples);
+  }
 }
 
 Evaluator::~Evaluator() = default;
