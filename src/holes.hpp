@@ -8,12 +8,14 @@
 namespace vmas {
 
 // The holes of a cloud with oriented normals, widest first. A point is on a rim when, seen
-// along its normal, the directions to its 16 nearest neighbours leave a gap wider than 150°,
+// along its normal, the directions to its 16 nearest neighbours (24 when `smoothed`: the
+// smoothing leaves the density uneven) leave a gap wider than 150°,
 // none of them lies on an opposite sheet (a fold, the edge of a thin part) and they spread like
 // a flat patch (not a line of points, not a thin part sampled around). Rim points within 1.5
 // neighbourhood reaches of one another form a rim; a rim of at least 10 points, 3 median
 // neighbourhood reaches wide, is a hole. A clean random sampling has such gaps at scattered
-// points only. Strong noise hides small holes. Empty for fewer than 17 points.
-std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals);
+// points only. Strong noise hides small holes. Empty for no more points than neighbours.
+std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                             bool smoothed = false);
 
 }  // namespace vmas

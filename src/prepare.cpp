@@ -308,7 +308,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   // (MeshDefects).
   if (!surface.is_mesh()) {
     cloud_normals(surface, report, options, std::move(smoothed_normals));
-    report.holes = find_holes(surface.points, surface.normals);
+    report.holes = find_holes(surface.points, surface.normals, report.smoothed());
   }
   report.seconds = internal::seconds_since(start);
   return report;

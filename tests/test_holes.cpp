@@ -3,6 +3,7 @@
 
 #include "holes.hpp"
 #include "test_shapes.hpp"
+#include "vmas/prepare.hpp"
 
 namespace vmas {
 namespace {
@@ -43,6 +44,32 @@ TEST(Holes, ACapCutOffIsOneHoleAsWideAsTheCut) {
     EXPECT_NEAR(holes.front().width, 1.2 * std::sqrt(2.0), 0.25) << count;
     EXPECT_GE(holes.front().rim_points, 20) << count;
   }
+}
+
+// Smoothing leaves a noisy cloud's density uneven at the scale of its fits: closed shapes stay
+// without holes, and a cap cut off is still found.
+TEST(Holes, SmoothedNoisyCloudsHaveHolesOnlyWhereTheyAre) {
+  const auto prepared_holes = [](std::vector<Vec3> points, double sigma, unsigned seed) {
+    SurfaceInput input;
+    input.points = test::with_noise(std::move(points), sigma, seed);
+    const PrepareReport report = prepare_surface(input, {});
+    EXPECT_TRUE(report.smoothed());
+    return report.holes;
+  };
+  int false_holes = 0;
+  for (unsigned seed : {21u, 22u}) {
+    const Sample torus = test::sample_torus(1.0, 0.4, 30000, seed);
+    const Sample box = test::sample_box(Vec3(1.0, 0.6, 0.4), 30000, seed);
+    for (const Sample* shape : {&torus, &box}) {
+      const double diagonal = test::bounding_diagonal(shape->points);
+      for (double sigma : {0.005, 0.01}) {
+        false_holes += !prepared_holes(shape->points, sigma * diagonal, seed).empty();
+      }
+    }
+  }
+  EXPECT_EQ(false_holes, 0);
+  const Sample open = cut_below(test::sample_sphere(Vec3::Zero(), 1.0, 30000, 24), 0.6);
+  EXPECT_FALSE(prepared_holes(open.points, 0.005 * test::bounding_diagonal(open.points), 25).empty());
 }
 
 TEST(Holes, TooFewPointsOrNoNormalsFindNothing) {
