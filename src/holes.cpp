@@ -16,9 +16,8 @@ namespace {
 
 constexpr int kNeighbours = 16;
 // A smoothed cloud's density is uneven at the scale of its smoothing (MLS fits on a grid): 16
-// directions left a gap past kRimGapRadians at 1-1.5 % of its points, and chains of them read
-// as holes on 11 of the benchmark's 96 closed noisy clouds (2 with 24; open noisy scans found
-// open: 29 -> 25 of 36).
+// directions leave a gap past kRimGapRadians at 1-1.5 % of its points, and chains of them read
+// as holes (docs/noise.md, step 7).
 constexpr int kSmoothedNeighbours = 24;
 // A half-disc of neighbours leaves a gap of ~180°; 16 random directions leave more than 150°
 // with probability ~0.5 %.
