@@ -64,6 +64,14 @@ void ShrinkingBallOptions::validate() const {
 }
 
 MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions& options)
+    : MedialProjector(shape, options, true) {}
+
+double MedialProjector::enclosure_of(const Shape& shape, const ShrinkingBallOptions& options) {
+  return MedialProjector(shape, options, false).enclosure();
+}
+
+MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions& options,
+                                 bool with_exteriors)
     : shape_(shape),
       options_(options),
       tree_(shape.points),
@@ -95,7 +103,7 @@ MedialProjector::MedialProjector(const Shape& shape, const ShrinkingBallOptions&
   enclosure_ = options_.enclosure >= 0.0 ? options_.enclosure : measure_enclosure();
   // A cloud's normals can be wrong where estimation fails (thin parts, sparse or noisy samples),
   // and so can the winding number built on them; the voxels the samples wall off are not.
-  if (!shape.is_mesh) {
+  if (with_exteriors && !shape.is_mesh) {
     double spacing = 0.0;
     for (double a : shape.area) spacing += std::sqrt(a);
     spacing *= kSpacingInSupportRadii / std::max(1, shape.size());

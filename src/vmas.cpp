@@ -203,9 +203,8 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   const std::size_t needed =
       smoothed_points_needed(surface, result.prepare, spheres_at_most(prepared.run));
   if (!surface.is_mesh() && needed < surface.points.size()) {
-    prepared.run.shrinking_ball.enclosure =
-        MedialProjector(build_shape(surface, options.shape), prepared.run.shrinking_ball)
-            .enclosure();
+    prepared.run.shrinking_ball.enclosure = MedialProjector::enclosure_of(
+        build_shape(surface, options.shape), prepared.run.shrinking_ball);
     thin_smoothed_cloud(surface, result.prepare, needed);
   }
   prepared.shape = build_shape(surface, options.shape);

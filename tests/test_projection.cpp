@@ -141,5 +141,23 @@ TEST(Projection, AGivenEnclosureIsTakenAndChecked) {
   EXPECT_THROW(given.validate(), InvalidOption);
 }
 
+// Measured alone, the enclosure is what a whole projector measures; an open cap reads lower.
+TEST(Projection, TheEnclosureMeasuredAloneIsAProjectorsEnclosure) {
+  const test::Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 5000, 49);
+  SurfaceInput cloud;
+  for (std::size_t i = 0; i < sphere.points.size(); ++i)
+    if (sphere.points[i].z() < 0.2) {
+      cloud.points.push_back(sphere.points[i]);
+      cloud.normals.push_back(sphere.normals[i]);
+    }
+  const Shape open = build_shape(cloud, {});
+  EXPECT_EQ(MedialProjector::enclosure_of(open, {}), MedialProjector(open, {}).enclosure());
+  EXPECT_LT(MedialProjector::enclosure_of(open, {}), 0.8);
+  cloud.points = sphere.points;
+  cloud.normals = sphere.normals;
+  const Shape closed = build_shape(cloud, {});
+  EXPECT_EQ(MedialProjector::enclosure_of(closed, {}), MedialProjector(closed, {}).enclosure());
+}
+
 }  // namespace
 }  // namespace vmas

@@ -56,6 +56,9 @@ class MedialProjector {
   // rejected.
   double enclosure() const { return enclosure_; }
   static constexpr double kEnclosed = 0.8;
+  // enclosure() of a projector on `shape`, without building what only its balls need (a cloud's
+  // exterior grids): for a figure judged on a denser sampling (ShrinkingBallOptions::enclosure).
+  static double enclosure_of(const Shape& shape, const ShrinkingBallOptions& options);
 
   // Generalized winding number at `q` (Barill et al. 2018) from the vertices' areas and normals:
   // blocks of vertices far from `q` count as one dipole. ~1 inside a closed surface, ~0 outside.
@@ -73,6 +76,7 @@ class MedialProjector {
   // data (open scans), and a medial ball of a closed shape never needs to.
   double radius_limit(const Vec3& p, const Vec3& inward) const;
 
+  MedialProjector(const Shape& shape, const ShrinkingBallOptions& options, bool with_exteriors);
   double measure_enclosure() const;
   std::vector<int> enclosure_probes() const;  // evenly spread vertices
   // Whether `grid` walls the inside off (no gap lets its fill in).
