@@ -110,12 +110,15 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
                                  noise["thinned_voxel_percent"].dump() + " %)"
                            : std::string()));
   const json& check = noise["smoothing_check"];
-  if (check["made"].get<bool>())
-    out << (check["smoothing_kept"].get<bool>() ? "; the skeleton reaches "
-                                                : ": smoothed, the skeleton reached ")
-        << check["smoothed_reach_percent"] << " % past the points as they are, without "
-        << (check["smoothing_kept"].get<bool>() ? "smoothing it would reach " : "")
-        << check["unsmoothed_reach_percent"] << " %";
+  if (check["made"].get<bool>()) {
+    const bool kept = check["smoothing_kept"].get<bool>();
+    out << (kept ? "; the skeleton reaches " : ": smoothed, the skeleton reached ")
+        << check["smoothed_reach_percent"] << " % past the points as they are and "
+        << (kept ? "lies " : "lay ") << check["smoothed_cover_percent"]
+        << " % from the farthest, without " << (kept ? "smoothing " : "")
+        << check["unsmoothed_reach_percent"] << " % and " << check["unsmoothed_cover_percent"]
+        << " %";
+  }
   out << "\n";
   const std::string normals = s["normals"];
   if (normals == "estimated" || normals == "re-oriented")

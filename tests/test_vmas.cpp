@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "test_shapes.hpp"
@@ -390,6 +391,47 @@ TEST(OneCallWarnings, OpenSurfaceOnSmoothedDataNamesMergedThinParts) {
   EXPECT_LT(result.enclosure, MedialProjector::kEnclosed);
   EXPECT_NE(warning_message(result, "open-surface").find("thinner than the smoothing radius"),
             std::string::npos);
+}
+
+// A unit sphere with a thin spike (radius 0.01, from z = 0.9 to 2.4): 5 000 points by area, of
+// which the spike gets about 37, each coordinate with Gaussian noise of `sigma` × the diagonal.
+SurfaceInput noisy_sphere_with_spike(double sigma, bool spike) {
+  constexpr double kRadius = 0.01, kFrom = 0.9, kLength = 1.5;
+  constexpr int kCount = 5000;
+  const double sphere_area = 4.0 * M_PI, spike_area = 2.0 * M_PI * kRadius * kLength;
+  const int on_spike =
+      spike ? static_cast<int>(std::lround(kCount * spike_area / (sphere_area + spike_area))) : 0;
+  SurfaceInput cloud;
+  cloud.points = test::sample_sphere(Vec3::Zero(), 1.0, kCount - on_spike, 51).points;
+  std::mt19937 rng(52);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int i = 0; i < on_spike; ++i) {
+    const double angle = 2.0 * M_PI * uniform(rng), height = kFrom + kLength * uniform(rng);
+    cloud.points.emplace_back(kRadius * std::cos(angle), kRadius * std::sin(angle), height);
+  }
+  cloud.points = test::with_noise(cloud.points, sigma * test::bounding_diagonal(cloud.points), 53);
+  return cloud;
+}
+
+// The outlier filter takes the spike's sparse points away with the noise's tails, and a second
+// pass on them as they are once took them away too (the skeleton lay 28 % of the diagonal from
+// the spike's tip): now the points as they are are skeletonized without the filter, and their
+// skeleton, which reaches the tip, is kept. Without the spike, noise alone does not call for the
+// check.
+TEST(SmoothingCheck, APartTheSmoothingTookAwayBringsBackThePointsAsTheyAre) {
+  Options options;
+  options.run.target.spheres = 30;
+  const SurfaceInput with_spike = noisy_sphere_with_spike(0.005 / std::sqrt(3.0), true);
+  const Result result = skeletonize(with_spike, options);
+  EXPECT_TRUE(result.smoothing_check.made);
+  EXPECT_FALSE(result.smoothing_check.smoothing_kept);
+  EXPECT_GT(result.smoothing_check.smoothed_cover, 0.1);
+  const EvalResult fit = evaluate(with_spike, result.medial_mesh);
+  EXPECT_LT(fit.surface_to_medial_max, 0.04 * fit.diagonal);
+
+  const Result without = skeletonize(noisy_sphere_with_spike(0.005 / std::sqrt(3.0), false), options);
+  EXPECT_TRUE(without.prepare.smoothed());
+  EXPECT_FALSE(without.smoothing_check.made);
 }
 
 }  // namespace

@@ -57,14 +57,18 @@ struct Warning {
 
 
 // When the noise of a cloud was smoothed and the skeleton came out far from the data
-// (large-error), the points were skeletonized a second time as they are, and both skeletons
-// measured against them: the one reaching less far past them is the result, the smoothed one
-// when they differ by less than the noise (lengths: fraction of the diagonal).
+// (large-error), or a part of the data lies far from it (the smoothing took a thin part away),
+// the points were skeletonized a second time as they are (--denoise off), and both skeletons
+// measured against them: the smoothed one is the result unless the other reaches less far past
+// them by more than the noise, or comes nearer their farthest point by far more (lengths:
+// fraction of the diagonal).
 struct SmoothingCheck {
   bool made = false;
   bool smoothing_kept = true;     // false: the result is that of the unsmoothed points
   double smoothed_reach = 0.0;    // medial -> data maximum of the smoothed points' skeleton
   double unsmoothed_reach = 0.0;  // and of the unsmoothed points' skeleton
+  double smoothed_cover = 0.0;    // data -> medial maximum of the smoothed points' skeleton
+  double unsmoothed_cover = 0.0;  // and of the unsmoothed points' skeleton
 };
 
 struct Result {
