@@ -234,13 +234,10 @@ PreparedShape prepare_shape(SurfaceInput input, const Options& options) {
 
 namespace {
 
-// One pass of the pipeline over `input`: the result, and its medial mesh and surface in the
-// prepared frame (what a second pass is compared on).
+// One pass of the pipeline over `input`: the result, and the skeletonizer's state at its end.
 struct Pass {
   Result result;
-  MedialMesh medial;
-  SurfaceInput surface;
-  SkeletonizerState state;  // the skeletonizer's at the end
+  SkeletonizerState state;
 };
 
 // `prepared` carried into its working frame turned `turn` times: another start of the
@@ -305,8 +302,7 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
                        std::to_string(result.summary.spheres) + "); ask for fewer");
 
   const auto connectivity_start = Clock::now();
-  pass.medial = skeletonizer.medial_mesh();
-  result.medial_mesh = result.prepare.frame.to_input(pass.medial);
+  result.medial_mesh = result.prepare.frame.to_input(skeletonizer.medial_mesh());
   result.skeleton_components = component_count(result.medial_mesh);
   result.seconds.connectivity = seconds_since(connectivity_start);
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
@@ -324,7 +320,6 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
     if (stand_in[i] >= 0) result.labels[result.clean.kept[i]] = labels[stand_in[i]];
 
   result.seconds += skeletonizer.times();
-  pass.surface = std::move(prepared.surface);
   pass.state = skeletonizer.state();
   return pass;
 }
