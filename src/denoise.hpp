@@ -35,7 +35,7 @@ std::vector<int> inlier_indices(const std::vector<Vec3>& points, const DenoiseOp
 // nearest kept neighbour, near it or on its plane, ascending: for a clean sampling, whose sparse
 // parts (a random sampling's sparse tail, the rim of a regular grid, a thin wall) the
 // statistical rule takes for strays. When most of the points left out do not continue it, they
-// are a scatter of strays, and `inliers` is returned as it is.
+// are a scatter of strays, and only those on their neighbour's surface join `inliers`.
 std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::vector<int>& inliers,
                                    const DenoiseOptions& options);
 

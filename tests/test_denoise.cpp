@@ -71,6 +71,38 @@ TEST(DenoiseOutliers, RemovesStrayPointsOnly) {
   EXPECT_LT(far_strays_kept, 0.1 * far_strays);
 }
 
+// Among scattered strays, a part of the surface sampled at a third of the density (a cap of the
+// sphere, where the statistical rule flags points) still lies on the surface: it stays.
+TEST(DenoiseOutliers, ASparsePartStaysAmongStrays) {
+  const Sample dense = test::sample_sphere(Vec3::Zero(), 1.0, 12000, 4);
+  std::vector<Vec3> points;
+  int cap = 0;
+  for (std::size_t i = 0; i < dense.points.size(); ++i) {
+    const bool in_cap = dense.points[i].z() > 0.95;
+    if (in_cap && i % 3 != 0) continue;
+    points.push_back(dense.points[i]);
+    cap += in_cap;
+  }
+  const int surface = static_cast<int>(points.size());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> box(-1.0, 1.0);
+  for (int i = 0; i < 150; ++i) points.push_back(test::draw_xyz([&] { return box(rng); }));
+  const std::vector<int> inliers = inlier_indices(points, {});
+  int cap_flagged = cap;
+  for (int i : inliers) cap_flagged -= i < surface && points[i].z() > 0.95;
+  ASSERT_GT(cap_flagged, 5) << "the statistical rule must flag part of the cap for this test";
+  const std::vector<int> kept = with_sparse_parts(points, inliers, {});
+  int cap_kept = 0, far_strays_kept = 0;
+  for (int i : kept) {
+    if (i < surface)
+      cap_kept += points[i].z() > 0.95;
+    else
+      far_strays_kept += std::abs(points[i].norm() - 1.0) > 0.1;
+  }
+  EXPECT_GE(cap_kept, cap - 3) << cap_flagged << " of the cap's " << cap << " points flagged";
+  EXPECT_LE(far_strays_kept, 2);
+}
+
 // A random sampling's sparse tail, creases, a thin wall and the rim of a regular grid are the
 // surface sampled more sparsely, not strays.
 TEST(DenoiseOutliers, CleanSparseSamplingsLoseNoPoint) {
