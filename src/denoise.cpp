@@ -29,7 +29,7 @@
 #include "cloud_graph.hpp"
 #include "disjoint_sets.hpp"
 #include "flann_query.hpp"
-#include "principal_axes.hpp"
+#include "quadric_fit.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -153,58 +153,10 @@ std::vector<int> statistical_inliers(const FlannSearch& search,
   return inliers;
 }
 
-// The least-squares quadric height field over the PCA plane of points[indices]: a curved
-// neighbourhood's surface (a sphere's cap, a finger's tip), which a plane would miss.
-struct QuadricFit {
-  bool valid = false;
-  Vec3 centroid, u, v, normal;
-  Eigen::Matrix<double, 6, 1> coefficients;
-  double residual_squares = 0.0;  // summed over the fitted points
-
-  static Eigen::Matrix<double, 6, 1> terms(double x, double y) {
-    Eigen::Matrix<double, 6, 1> t;
-    t << 1.0, x, y, x * x, x * y, y * y;
-    return t;
-  }
-  // Distance of p from the quadric along the plane's normal.
-  double offset(const Vec3& p) const {
-    const Vec3 d = p - centroid;
-    return std::abs(d.dot(normal) - coefficients.dot(terms(d.dot(u), d.dot(v))));
-  }
-};
-
-QuadricFit fit_quadric(const std::vector<Vec3>& points, const std::vector<int>& indices) {
-  QuadricFit quadric;
-  const internal::PrincipalAxes fit = internal::principal_axes(points, indices);
-  if (!fit.valid) return quadric;
-  quadric.centroid = fit.centroid;
-  quadric.normal = fit.normal();
-  quadric.u = fit.axes.col(2);
-  quadric.v = fit.axes.col(1);
-  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-  double height_squares = 0.0;
-  for (int i : indices) {
-    const Vec3 d = points[i] - quadric.centroid;
-    const double h = d.dot(quadric.normal);
-    const Eigen::Matrix<double, 6, 1> t = QuadricFit::terms(d.dot(quadric.u), d.dot(quadric.v));
-    normal_matrix += t * t.transpose();
-    rhs += h * t;
-    height_squares += h * h;
-  }
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver(normal_matrix);
-  if (solver.info() != Eigen::Success) return quadric;
-  quadric.coefficients = solver.solve(rhs);
-  // Sum of squared residuals of the least-squares solution: hᵀh − cᵀ(Pᵀh).
-  quadric.residual_squares = std::max(height_squares - quadric.coefficients.dot(rhs), 0.0);
-  quadric.valid = true;
-  return quadric;
-}
-
 // RMS distance of `points[indices]` to their quadric (fit_quadric), with the six fitted
 // coefficients taken out of the degrees of freedom. NaN when the neighbourhood is degenerate.
 double quadric_residual(const std::vector<Vec3>& points, const std::vector<int>& indices) {
-  const QuadricFit quadric = fit_quadric(points, indices);
+  const internal::QuadricFit quadric = internal::fit_quadric(points, indices);
   if (!quadric.valid) return std::numeric_limits<double>::quiet_NaN();
   return std::sqrt(quadric.residual_squares / (static_cast<double>(indices.size()) - 6.0));
 }
@@ -392,7 +344,7 @@ std::vector<int> with_sparse_parts(const std::vector<Vec3>& points, const std::v
     if (gap > kFarReach * reach) return false;
     std::vector<int> around = neighbours_of(j);
     around.push_back(j);
-    const QuadricFit surface = fit_quadric(points, around);
+    const internal::QuadricFit surface = internal::fit_quadric(points, around);
     return surface.valid && surface.offset(points[p]) <= kOffPlane * reach;
   };
   const auto grow = [&](bool on_surface_only) {

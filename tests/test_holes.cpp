@@ -46,6 +46,29 @@ TEST(Holes, ACapCutOffIsOneHoleAsWideAsTheCut) {
   }
 }
 
+// A cut across a thin tube (a handle, a vessel's ornament) sampled a few points around: its rim's
+// neighbourhoods curve around the tube, thick to their plane (the vessel with its cap cut off,
+// or these tubes, lost one or both openings to that) but not to their quadric.
+TEST(Holes, ACutAcrossAThinTubeIsFound) {
+  struct Tube {
+    double major, minor;
+    int count;
+  };
+  for (const Tube& t : {Tube{0.3, 0.03, 4000}, Tube{1.0, 0.04, 10000}}) {
+    const Sample tube = test::sample_torus(t.major, t.minor, t.count, 18);
+    EXPECT_TRUE(find_holes(tube.points, tube.normals).empty()) << t.minor;
+    Sample cut;  // its half below y = 0: two openings across the tube, circles of radius minor
+    for (std::size_t i = 0; i < tube.points.size(); ++i)
+      if (tube.points[i].y() < 0.0) {
+        cut.points.push_back(tube.points[i]);
+        cut.normals.push_back(tube.normals[i]);
+      }
+    const std::vector<Hole> holes = find_holes(cut.points, cut.normals);
+    ASSERT_EQ(holes.size(), 2u) << t.minor;
+    for (const Hole& hole : holes) EXPECT_NEAR(hole.width, 2.0 * std::sqrt(2.0) * t.minor, 0.02);
+  }
+}
+
 // Smoothing leaves a noisy cloud's density uneven at the scale of its fits: closed shapes stay
 // without holes, and a cap cut off is still found.
 TEST(Holes, SmoothedNoisyCloudsHaveHolesOnlyWhereTheyAre) {
