@@ -25,11 +25,11 @@ constexpr double kRimGapRadians = 150.0 * M_PI / 180.0;
 constexpr int kMinRimPoints = 10;
 // A half-disc of neighbours spreads 0.28 as much across the rim as along it: a rim's
 // neighbourhood is neither a line (a thin part sampled by one row of points) nor thick off its
-// quadric (a thin part sampled around, whose normals say little). Thickness off the plane
-// would also take the curved side of a thin tube for that: the cap cut off the vessel crosses
-// parts 2-3 % of the diagonal wide, and 193 of the 256 points at its cut were thick to their
-// plane (the squared spreads' ratio, kMaxThicknessRatio: 0.2 and 0.05 gave more false holes
-// on closed clouds, or fewer found on open ones, than 0.1).
+// quadric, its summed squared residual above kMaxThicknessRatio × its squared spread across (a
+// thin part sampled around, whose normals say little). Off its plane the curved side of a thin
+// tube is thick too: 193 of the 256 points at the cut of the vessel's cap, which crosses parts
+// 2-3 % of the diagonal wide. 0.2 and 0.05 found fewer holes on open clouds or more on closed
+// ones than 0.1 (docs/noise.md, step 7).
 constexpr double kMinWidthRatio = 0.05, kMaxThicknessRatio = 0.1;
 // Narrower holes are gaps of the sampling, in neighbourhood reaches (median).
 constexpr double kMinHoleWidth = 3.0;
