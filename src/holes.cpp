@@ -51,13 +51,14 @@ bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, i
     angles.push_back(std::atan2(d.dot(v), d.dot(u)));
   }
   if (angles.size() < 2) return false;
-  const internal::QuadricFit surface = internal::fit_quadric(points, around);
-  if (!surface.valid || surface.spread[1] < kMinWidthRatio * surface.spread[2]) return false;
-  if (surface.residual_squares > kMaxThicknessRatio * surface.spread[1]) return false;
   std::sort(angles.begin(), angles.end());
   double widest = angles.front() + 2.0 * M_PI - angles.back();
   for (std::size_t i = 1; i < angles.size(); ++i) widest = std::max(widest, angles[i] - angles[i - 1]);
-  return widest > kRimGapRadians;
+  if (!(widest > kRimGapRadians)) return false;
+  // Only the few points that see a gap pay for the fit.
+  const internal::QuadricFit surface = internal::fit_quadric(points, around);
+  return surface.valid && surface.spread[1] >= kMinWidthRatio * surface.spread[2] &&
+         surface.residual_squares <= kMaxThicknessRatio * surface.spread[1];
 }
 
 }  // namespace

@@ -423,6 +423,11 @@ constexpr double kLostPartNoises = 6.0;
 constexpr int kLostPartNeighbours = 2;
 constexpr double kLostPartReach = 3.0;
 
+// The noise measured on a prepared input, as a fraction of its diagonal.
+double noise_fraction(const PrepareReport& prepared) {
+  return prepared.diagonal > 0.0 ? prepared.noise.sigma / prepared.diagonal : 0.0;
+}
+
 // The input's points that cleaning kept, in the input's coordinates: the points as they are.
 SurfaceInput points_as_they_are(const SurfaceInput& input, const Result& result) {
   SurfaceInput points;
@@ -440,8 +445,8 @@ bool lost_a_part(const Result& smoothed, const SurfaceInput& points) {
   EvalOptions coverage = refinement_eval_options(false);
   coverage.maxima_only = false;
   const EvalResult fit = evaluate(points, smoothed.medial_mesh, coverage);
-  const double far = fit.diagonal * (smoothed.measured_error +
-                                     kLostPartNoises * prepared.noise.sigma / prepared.diagonal);
+  const double far =
+      fit.diagonal * (smoothed.measured_error + kLostPartNoises * noise_fraction(prepared));
   std::vector<Vec3> far_points;
   for (std::size_t i = 0; i < fit.vertex_error.size(); ++i)
     if (fit.vertex_error[i] > far) far_points.push_back(points.points[i]);
@@ -483,8 +488,7 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput
   check.unsmoothed_cover = unsmoothed_fit.surface_to_medial_max / diagonal;
   // Both are measured against noisy points: a difference within their noise tells nothing, and
   // the noise's own tails lie some deviations from any skeleton.
-  const PrepareReport& prepared = smoothed.result.prepare;
-  const double noise = prepared.diagonal > 0.0 ? prepared.noise.sigma / prepared.diagonal : 0.0;
+  const double noise = noise_fraction(smoothed.result.prepare);
   check.smoothing_kept = check.smoothed_reach <= check.unsmoothed_reach + noise &&
                          check.smoothed_cover <= check.unsmoothed_cover + kLostPartNoises * noise;
   const double judging = seconds_since(judging_start);
