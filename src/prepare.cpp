@@ -334,6 +334,14 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
   keep_cells(thin, surface, report);
 }
 
+void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
+                             const ShapeOptions& options) {
+  if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated) return;
+  const std::vector<int> turned = MedialProjector::inside_out(build_shape(surface, options));
+  for (int v : turned) surface.normals[v] = -surface.normals[v];
+  report.normals_turned = turned.size();
+}
+
 void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn) {
   const Eigen::Matrix3d turning =
       Eigen::AngleAxisd(kTurnRadians * turn, Vec3::Ones().normalized()).toRotationMatrix();

@@ -473,6 +473,39 @@ TEST(PrepareNoisy, OnlyASmoothedCloudIsThinnedForItsRun) {
   EXPECT_EQ(smoothed_points_needed(noisy, noisy_report, 1000), noisy.points.size());
 }
 
+// Only the normals a smoothed cloud had estimated are checked for small patches inside out: the
+// file's normals and a clean cloud's are left as they are.
+TEST(PrepareNoisy, OnlyASmoothedCloudsEstimatedNormalsAreTurnedRight) {
+  const Sample torus = test::sample_torus(1.0, 0.3, 4000, 53);
+  SurfaceInput cloud;
+  cloud.points = torus.points;
+  cloud.normals = torus.normals;
+  std::size_t patch = 0;
+  for (std::size_t i = 0; i < cloud.points.size(); ++i)
+    if ((cloud.points[i] - Vec3(1.3, 0.0, 0.0)).norm() < 0.12) {
+      cloud.normals[i] = -cloud.normals[i];
+      ++patch;
+    }
+  ASSERT_GT(patch, 10u);
+  const auto turned_right = [&](const PrepareReport& report) {
+    SurfaceInput turned = cloud;
+    PrepareReport after = report;
+    turn_inside_out_normals(turned, after, {});
+    EXPECT_EQ(turned.normals == torus.normals ? patch : 0u, after.normals_turned);
+    return turned.normals == torus.normals;
+  };
+  PrepareReport smoothed_and_estimated;
+  smoothed_and_estimated.mls_radius = 0.05;
+  smoothed_and_estimated.normals_estimated = true;
+  EXPECT_TRUE(turned_right(smoothed_and_estimated));
+  PrepareReport given = smoothed_and_estimated;
+  given.normals_estimated = false;
+  EXPECT_FALSE(turned_right(given));
+  PrepareReport clean = smoothed_and_estimated;
+  clean.mls_radius = 0.0;
+  EXPECT_FALSE(turned_right(clean));
+}
+
 // A smoothed mesh keeps its vertices (its faces are the surface), and the refinement measures
 // on about as many as a smoothed cloud would keep; a clean mesh and a cloud on all their points.
 TEST(PrepareNoisy, ASmoothedMeshIsMeasuredOnFewerOfItsVertices) {

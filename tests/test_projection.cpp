@@ -159,5 +159,33 @@ TEST(Projection, TheEnclosureMeasuredAloneIsAProjectorsEnclosure) {
   EXPECT_EQ(MedialProjector::enclosure_of(closed, {}), MedialProjector(closed, {}).enclosure());
 }
 
+// A small patch of a torus's normals turned over (as orientation leaves one near a thin part)
+// reads inside out; the rest of the torus, and a thin plate oriented right, do not. (A patch
+// wider than the offset reads right: its own samples outweigh the rest.)
+TEST(Projection, ASmallPatchTurnedInsideOutIsFoundAndNothingElse) {
+  const test::Sample torus = test::sample_torus(1.0, 0.3, 4000, 51);
+  SurfaceInput cloud = cloud_of(torus);
+  const Vec3 middle(1.3, 0.0, 0.0);  // on the outer equator
+  std::vector<char> in_patch(cloud.points.size(), 0);
+  int patch = 0;
+  for (std::size_t i = 0; i < cloud.points.size(); ++i)
+    if ((cloud.points[i] - middle).norm() < 0.12) {  // the offset is about 0.2
+      in_patch[i] = 1;
+      cloud.normals[i] = -cloud.normals[i];
+      ++patch;
+    }
+  EXPECT_TRUE(MedialProjector::inside_out(build_shape(cloud_of(torus), {})).empty());
+  const std::vector<int> turned = MedialProjector::inside_out(build_shape(cloud, {}));
+  int found = 0;
+  for (int v : turned) {
+    EXPECT_TRUE(in_patch[v]) << "vertex " << v << " at " << cloud.points[v].transpose();
+    found += in_patch[v];
+  }
+  EXPECT_GT(patch, 10);
+  EXPECT_EQ(found, patch);
+  const test::Sample plate = test::sample_box(Vec3(1.0, 1.0, 0.01), 20000, 52);
+  EXPECT_TRUE(MedialProjector::inside_out(build_shape(cloud_of(plate), {})).empty());
+}
+
 }  // namespace
 }  // namespace vmas

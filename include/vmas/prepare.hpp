@@ -85,6 +85,7 @@ struct PrepareReport {
   int mesh_smoothing_steps = 0;  // meshes: Taubin steps along the faces (0: not smoothed)
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
+  std::size_t normals_turned = 0;  // estimated normals turned over by turn_inside_out_normals
   std::vector<Hole> holes;      // clouds: holes of the prepared points, widest first
   double seconds = 0.0;
   bool smoothed() const { return mls_radius > 0.0 || mesh_smoothing_steps > 0; }
@@ -111,6 +112,13 @@ std::size_t smoothed_points_needed(const SurfaceInput& surface, const PrepareRep
 // Thins the prepared `surface` (points and normals) to about `budget` points, one per voxel
 // (src/subsample.hpp), when it has more; the report's stand_in and kept follow.
 void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget);
+
+// The orientation of a smoothed cloud's estimated normals turns over only large regions (its
+// tree and its views); the small patches it leaves inside out, where noise near thin parts
+// misled the tree, are turned over here by the winding number (MedialProjector::inside_out).
+// Counted in report.normals_turned; any other surface is left as it is.
+void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
+                             const ShapeOptions& options);
 
 // Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
 // angle about the frame's diagonal: the same points, in coordinates that round differently (and

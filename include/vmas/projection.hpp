@@ -60,6 +60,14 @@ class MedialProjector {
   // exterior grids): for a figure judged on a denser sampling (ShrinkingBallOptions::enclosure).
   static double enclosure_of(const Shape& shape, const ShrinkingBallOptions& options);
 
+  // The vertices of `shape` whose normal reads inside out: the winding number a few sample
+  // spacings out along it is clearly higher than as far in against it. Seen from that far, a
+  // patch narrower than the offset weighs little, and the rest of a surface oriented right reads
+  // 1 inside and 0 outside: a small patch turned over is found (a wider one reads right, its own
+  // samples ±½ outweighing the rest). A part thinner than the offset reads the same on both
+  // sides and is left alone. Ascending.
+  static std::vector<int> inside_out(const Shape& shape);
+
   // Generalized winding number at `q` (Barill et al. 2018) from the vertices' areas and normals:
   // blocks of vertices far from `q` count as one dipole. ~1 inside a closed surface, ~0 outside.
   double winding_number(const Vec3& q) const;
