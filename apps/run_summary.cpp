@@ -56,6 +56,7 @@ json run_summary(const Result& result, const RunContext& run) {
                      prepared.smoothed_thinned_from > 0 ? prepared.kept.size() : std::size_t{0}},
                     {"thinned_voxel_percent",
                      percent_of(prepared.smoothed_voxel, prepared.diagonal)},
+                    {"normals_turned", prepared.normals_turned},
                     {"smoothing_check",
                      {{"made", check.made},
                       {"smoothing_kept", check.smoothing_kept},
