@@ -336,7 +336,9 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
 
 void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
                              const ShapeOptions& options) {
-  if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated) return;
+  if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated ||
+      !report.holes.empty())
+    return;
   const std::vector<int> turned = MedialProjector::inside_out(build_shape(surface, options));
   for (int v : turned) surface.normals[v] = -surface.normals[v];
   report.normals_turned = turned.size();

@@ -77,9 +77,8 @@ double MedialProjector::enclosure_of(const Shape& shape, const ShrinkingBallOpti
 }
 
 std::vector<int> MedialProjector::inside_out(const Shape& shape) {
-  ShrinkingBallOptions options;
-  options.enclosure = 0.0;  // given, so not measured: only the winding number is used
-  const MedialProjector projector(shape, options, false);
+  const MedialProjector projector(shape, {}, false);
+  if (projector.enclosure() < kEnclosed) return {};
   const int count = shape.size();
   std::vector<char> turned(count, 0);
 #pragma omp parallel for schedule(dynamic, 256)

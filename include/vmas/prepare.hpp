@@ -116,7 +116,7 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
 // The orientation of a smoothed cloud's estimated normals turns over only large regions (its
 // tree and its views); the small patches it leaves inside out, where noise near thin parts
 // misled the tree, are turned over here by the winding number (MedialProjector::inside_out).
-// Counted in report.normals_turned; any other surface is left as it is.
+// Counted in report.normals_turned; any other surface, and one with holes, is left as it is.
 void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
                              const ShapeOptions& options);
 
