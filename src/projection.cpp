@@ -39,8 +39,8 @@ constexpr std::array<double, 2> kExteriorCellsInSpacings = {1.0, 0.75};
 // through a gap in its walls, a hole or an open side (on closed data one of the two is inside,
 // or in the wall of a thin part).
 constexpr double kMostProbesOutside = 0.2;
-// inside_out(): the offset on each side of a vertex, in its support radii √A(v) (about a sample
-// spacing), and the difference of the two winding numbers that reads inside out (+1 for a patch
+// inside_out(): the offset on each side of a vertex, in its support radii √A(v) (a sample
+// spacing is about 1.3 of them), and the difference of the two winding numbers that reads inside out (+1 for a patch
 // turned over, −1 for one oriented right). On the smoothed, thinned clouds of the benchmark's
 // noisy rows without normals, offsets of 3, 4 and 6 gave the same ε within their spread.
 constexpr double kInsideOutOffset = 4.0;

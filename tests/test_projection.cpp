@@ -184,7 +184,28 @@ TEST(Projection, ASmallPatchTurnedInsideOutIsFoundAndNothingElse) {
   EXPECT_GT(patch, 10);
   EXPECT_EQ(found, patch);
   const test::Sample plate = test::sample_box(Vec3(1.0, 1.0, 0.01), 20000, 52);
-  EXPECT_TRUE(MedialProjector::inside_out(build_shape(cloud_of(plate), {})).empty());
+  const Shape plate_shape = build_shape(cloud_of(plate), {});
+  ASSERT_GE(MedialProjector::enclosure_of(plate_shape, {}), MedialProjector::kEnclosed);
+  EXPECT_TRUE(MedialProjector::inside_out(plate_shape).empty());
+}
+
+// On an open surface the rest reads no 1 inside: nothing is judged there, not even a small
+// patch turned over.
+TEST(Projection, NothingIsTurnedOnAnOpenSurface) {
+  const test::Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 8000, 54);
+  SurfaceInput open;
+  int patch = 0;
+  for (std::size_t i = 0; i < sphere.points.size(); ++i) {
+    if (sphere.points[i].z() < 0.0) continue;
+    open.points.push_back(sphere.points[i]);
+    const bool turned = (sphere.points[i] - Vec3(1.0, 0.0, 0.3).normalized()).norm() < 0.1;
+    open.normals.push_back(turned ? Vec3(-sphere.normals[i]) : sphere.normals[i]);
+    patch += turned;
+  }
+  ASSERT_GT(patch, 5);
+  const Shape shape = build_shape(open, {});
+  ASSERT_LT(MedialProjector::enclosure_of(shape, {}), MedialProjector::kEnclosed);
+  EXPECT_TRUE(MedialProjector::inside_out(shape).empty());
 }
 
 }  // namespace

@@ -65,8 +65,9 @@ class MedialProjector {
   // patch narrower than the offset weighs little, and the rest of a surface oriented right reads
   // 1 inside and 0 outside: a small patch turned over is found (a wider one reads right, its own
   // samples ±½ outweighing the rest). A part thinner than the offset reads the same on both
-  // sides and is left alone. None when the shape does not enclose a volume (enclosure() below
-  // kEnclosed): the rest of an open surface reads no 1 inside. Ascending.
+  // sides and is left alone. None when `shape` does not enclose a volume (its own enclosure()
+  // below kEnclosed, measured on these points: on a thinned cloud it reads lower next to thin
+  // parts than on all its points): the rest of an open surface reads no 1 inside. Ascending.
   static std::vector<int> inside_out(const Shape& shape);
 
   // Generalized winding number at `q` (Barill et al. 2018) from the vertices' areas and normals:
