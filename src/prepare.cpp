@@ -334,14 +334,14 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
   keep_cells(thin, surface, report);
 }
 
-void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
-                             const ShapeOptions& options) {
+std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
+                                    const Shape& shape) {
   if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated ||
       !report.holes.empty())
-    return;
-  const std::vector<int> turned = MedialProjector::inside_out(build_shape(surface, options));
+    return 0;
+  const std::vector<int> turned = MedialProjector::inside_out(shape);
   for (int v : turned) surface.normals[v] = -surface.normals[v];
-  report.normals_turned = turned.size();
+  return report.normals_turned = turned.size();
 }
 
 void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn) {

@@ -208,8 +208,9 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
         build_shape(surface, options.shape), prepared.run.shrinking_ball);
     thin_smoothed_cloud(surface, result.prepare, needed);
   }
-  turn_inside_out_normals(surface, result.prepare, options.shape);
   prepared.shape = build_shape(surface, options.shape);
+  if (turn_inside_out_normals(surface, result.prepare, prepared.shape) > 0)
+    prepared.shape = build_shape(surface, options.shape);
   prepared.surface = std::move(surface);
   result.input_components = component_count(prepared.shape);
   result.seconds.shape = seconds_since(shape_start);

@@ -490,7 +490,7 @@ TEST(PrepareNoisy, OnlyASmoothedCloudsEstimatedNormalsAreTurnedRight) {
   const auto turned_right = [&](const PrepareReport& report) {
     SurfaceInput turned = cloud;
     PrepareReport after = report;
-    turn_inside_out_normals(turned, after, {});
+    turn_inside_out_normals(turned, after, build_shape(turned, {}));
     EXPECT_EQ(turned.normals == torus.normals ? patch : 0u, after.normals_turned);
     return turned.normals == torus.normals;
   };

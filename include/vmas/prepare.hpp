@@ -116,9 +116,11 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
 // The orientation of a smoothed cloud's estimated normals turns over only large regions (its
 // tree and its views); the small patches it leaves inside out, where noise near thin parts
 // misled the tree, are turned over here by the winding number (MedialProjector::inside_out).
-// Counted in report.normals_turned; any other surface, and one with holes, is left as it is.
-void turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
-                             const ShapeOptions& options);
+// `shape`: built from `surface` (build_shape), to be built again when any normal was turned
+// (its quadrics follow the normals). Returns how many, also in report.normals_turned; any other
+// surface, and one with holes, is left as it is (0).
+std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
+                                    const Shape& shape);
 
 // Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
 // angle about the frame's diagonal: the same points, in coordinates that round differently (and
