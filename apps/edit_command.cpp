@@ -131,6 +131,7 @@ json preparation_summary(const Result& prepared, int points) {
   return {{"points", points},
           {"thinned_from", report.thinned_from},
           {"outliers", report.outliers},
+          {"stray_clusters", report.stray_clusters},
           {"noise_percent", std::round(1e4 * report.noise.sigma / diagonal) / 1e2},
           {"smoothed", report.smoothed()},
           {"warnings", warnings}};

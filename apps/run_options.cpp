@@ -103,6 +103,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "a cloud with more points is thinned to about this many, one per voxel, for the run; "
        "every point still gets a label (0: every point takes part)")
       ("estimate-normals", "estimate normals even if the file has them")
+      ("keep-strays", "keep groups of points apart from the object (stray clusters of at most 1 % "
+       "of the points, several spacings from the rest), which are otherwise removed")
       ("denoise", po::value(&values.denoise)->default_value("auto"),
        "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
        "points (moving least squares) before the run; off: take the points as they are; or the "
@@ -153,6 +155,7 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   options.run.coarse_start = !vm.count("no-coarse-start");
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);
   options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
+  options.prepare.remove_stray_clusters = vm.count("keep-strays") == 0;
   options.prepare.orient_normals = vm.count("orient-normals") > 0;
   options.validate();
 }

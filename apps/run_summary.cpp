@@ -44,6 +44,8 @@ json run_summary(const Result& result, const RunContext& run) {
                     {"points", prepared.kept.size() + prepared.outliers},
                     {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
                   {"outliers", prepared.outliers},
+                  {"stray_clusters",
+                   {{"count", prepared.stray_clusters}, {"points", prepared.stray_points.size()}}},
                   {"noise",
                    {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
                     {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},

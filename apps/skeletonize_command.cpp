@@ -94,6 +94,11 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
     out << "thinned: " << thinning["points"] << " points take part (one per voxel of "
         << thinning["voxel_percent"] << " % of the diagonal; --max-points "
         << settings.options.prepare.max_points << ")\n";
+  const json& strays = s["stray_clusters"];
+  if (strays["count"].get<int>() > 0)
+    out << "stray clusters: removed " << strays["count"] << " group"
+        << (strays["count"].get<int>() > 1 ? "s" : "") << " of " << strays["points"]
+        << " points apart from the object (--keep-strays keeps them)\n";
   if (s["outliers"].get<int>() > 0) out << "outliers: removed " << s["outliers"] << " points\n";
   if (noise["measured"].get<bool>())
     out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "

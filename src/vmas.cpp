@@ -430,11 +430,20 @@ double noise_fraction(const PrepareReport& prepared) {
   return prepared.diagonal > 0.0 ? prepared.noise.sigma / prepared.diagonal : 0.0;
 }
 
-// The input's points that cleaning kept, in the input's coordinates: the points as they are.
+// The input's points that cleaning kept, in the input's coordinates, less the stray clusters:
+// the points as they are.
 SurfaceInput points_as_they_are(const SurfaceInput& input, const Result& result) {
+  const std::vector<int>& strays = result.prepare.stray_points;
   SurfaceInput points;
-  points.points.reserve(result.clean.kept.size());
-  for (int i : result.clean.kept) points.points.push_back(input.points[i]);
+  points.points.reserve(result.clean.kept.size() - strays.size());
+  auto stray = strays.begin();
+  for (std::size_t j = 0; j < result.clean.kept.size(); ++j) {
+    if (stray != strays.end() && *stray == static_cast<int>(j)) {
+      ++stray;
+      continue;
+    }
+    points.points.push_back(input.points[result.clean.kept[j]]);
+  }
   return points;
 }
 

@@ -49,6 +49,7 @@ struct PrepareOptions {
   Denoise denoise = Denoise::Auto;  // Auto: measure the noise; Fixed: take `noise_sigma`
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
+  bool remove_stray_clusters = true;  // clouds, whatever denoise says (src/stray_clusters.hpp)
   bool estimate_normals = false;    // clouds: estimate even when the file has normals
   bool orient_normals = false;      // clouds: re-orient the surface's normals (signs not trusted)
   NormalOptions normals;
@@ -79,6 +80,8 @@ struct PrepareReport {
                                           // (0: not thinned)
   double smoothed_voxel = 0.0;            // edge of that thinning's grid (absolute)
   std::size_t outliers = 0;     // points dropped as strays or as the noise's fringe
+  std::size_t stray_clusters = 0;  // groups of points apart from the object, removed (their
+  std::vector<int> stray_points;   // input points, ascending, are among the outliers)
   NoiseEstimate noise;          // as measured (or given), before smoothing
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
   double mls_radius = 0.0;      // clouds: support of the MLS smoothing (0: not smoothed)
