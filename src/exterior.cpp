@@ -8,12 +8,22 @@
 namespace vmas::internal {
 
 namespace {
-// The most cells along the longest side: 16 M cells and bytes at most.
+// The most cells along the longest side: 16 M cells, 2 MB of bits, at most.
 constexpr int kMaxCellsPerSide = 256;
 // Free cells of margin around the points' box, so that the fill goes round the whole surface.
 constexpr int kMargin = 3;
 
-enum : std::uint8_t { kFree = 0, kWall = 1, kOutside = 2 };
+// One bit per cell.
+class CellBits {
+ public:
+  explicit CellBits(std::size_t cells) : words_((cells + 63) / 64, 0) {}
+  bool operator[](std::size_t i) const { return (words_[i >> 6] >> (i & 63)) & 1u; }
+  void set(std::size_t i) { words_[i >> 6] |= std::uint64_t{1} << (i & 63); }
+  std::vector<std::uint64_t> release() { return std::move(words_); }
+
+ private:
+  std::vector<std::uint64_t> words_;
+};
 }  // namespace
 
 ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
@@ -29,48 +39,53 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
   ny_ = cells_along(box.sizes().y());
   nz_ = cells_along(box.sizes().z());
   const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
-  state_.assign(layer * nz_, kFree);
+  CellBits wall(layer * nz_), outside(layer * nz_);
   for (const Vec3& p : points) {
     const Vec3 c = (p - low_) / cell_;
     const int x = static_cast<int>(c.x()), y = static_cast<int>(c.y()), z = static_cast<int>(c.z());
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
-          state_[(z + dz) * layer + static_cast<std::size_t>(y + dy) * nx_ + (x + dx)] = kWall;
+          wall.set((z + dz) * layer + static_cast<std::size_t>(y + dy) * nx_ + (x + dx));
   }
-  // Breadth-first over face neighbours from a corner (the margin is free all round); 32-bit
-  // indices halve the queue, which can hold most of the cells.
-  std::vector<std::uint32_t> queue{0};
-  state_[0] = kOutside;
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const std::size_t i = queue[head];
-    const int x = static_cast<int>(i % nx_), y = static_cast<int>((i / nx_) % ny_),
-              z = static_cast<int>(i / layer);
-    const std::array<std::pair<bool, std::ptrdiff_t>, 6> steps = {
-        {{x + 1 < nx_, 1},
-         {x > 0, -1},
-         {y + 1 < ny_, nx_},
-         {y > 0, -nx_},
-         {z + 1 < nz_, static_cast<std::ptrdiff_t>(layer)},
-         {z > 0, -static_cast<std::ptrdiff_t>(layer)}}};
-    for (const auto& [on_grid, offset] : steps) {
-      if (!on_grid) continue;
-      const std::size_t j = i + offset;
-      if (state_[j] != kFree) continue;
-      state_[j] = kOutside;
-      queue.push_back(static_cast<std::uint32_t>(j));
+  // Breadth-first over face neighbours from a corner (the margin is free all round), one front
+  // at a time: a front is a surface through the grid, far fewer cells than the fill reaches.
+  std::vector<std::uint32_t> front{0}, next;
+  outside.set(0);
+  while (!front.empty()) {
+    next.clear();
+    for (const std::size_t i : front) {
+      const int x = static_cast<int>(i % nx_), y = static_cast<int>((i / nx_) % ny_),
+                z = static_cast<int>(i / layer);
+      const std::array<std::pair<bool, std::ptrdiff_t>, 6> steps = {
+          {{x + 1 < nx_, 1},
+           {x > 0, -1},
+           {y + 1 < ny_, nx_},
+           {y > 0, -nx_},
+           {z + 1 < nz_, static_cast<std::ptrdiff_t>(layer)},
+           {z > 0, -static_cast<std::ptrdiff_t>(layer)}}};
+      for (const auto& [on_grid, offset] : steps) {
+        if (!on_grid) continue;
+        const std::size_t j = i + offset;
+        if (wall[j] || outside[j]) continue;
+        outside.set(j);
+        next.push_back(static_cast<std::uint32_t>(j));
+      }
     }
+    front.swap(next);
   }
+  outside_ = outside.release();
 }
 
 bool ExteriorGrid::outside(const Vec3& p) const {
-  if (state_.empty()) return false;
+  if (outside_.empty()) return false;
   const Vec3 c = (p - low_) / cell_;
   if (!(c.minCoeff() >= 0.0)) return true;  // also NaN
   const auto x = static_cast<std::size_t>(c.x()), y = static_cast<std::size_t>(c.y()),
              z = static_cast<std::size_t>(c.z());
   if (x >= std::size_t(nx_) || y >= std::size_t(ny_) || z >= std::size_t(nz_)) return true;
-  return state_[(z * ny_ + y) * nx_ + x] == kOutside;
+  const std::size_t i = (z * ny_ + y) * nx_ + x;
+  return (outside_[i >> 6] >> (i & 63)) & 1u;
 }
 
 }  // namespace vmas::internal

@@ -25,7 +25,7 @@ class ExteriorGrid {
   Vec3 low_;
   double cell_ = 0.0;
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<std::uint8_t> state_;  // by cell: free, wall, or reached by the fill
+  std::vector<std::uint64_t> outside_;  // one bit per cell: reached by the fill
 };
 
 }  // namespace internal
