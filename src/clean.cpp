@@ -26,18 +26,21 @@ bool has_normal(const Vec3& n) { return n.allFinite() && n.stableNorm() > 0.0; }
 
 constexpr double kNoNormal = std::numeric_limits<double>::quiet_NaN();
 
+// A point's index; 32 bits (CleanReport::kept's) halve what cleaning holds besides the points.
+using Index = int;
 // Marks a point dropped or merged away (CleanReport::kept has none of them).
-constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
+constexpr Index kDropped = -1;
 
 using Face = std::array<int, 3>;
 
 // Indices of the points with finite coordinates; throws InvalidInput for an infinite or absurd
 // one. Counts the NaN points and the missing normals of the others.
-std::vector<std::size_t> finite_points(const SurfaceInput& surface, CleanReport& report) {
+std::vector<Index> finite_points(const SurfaceInput& surface, CleanReport& report) {
   const auto& points = surface.points;
   const bool with_normals = surface.has_normals();
-  std::vector<std::size_t> usable;
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  std::vector<Index> usable;
+  usable.reserve(points.size());
+  for (Index i = 0; i < static_cast<Index>(points.size()); ++i) {
     for (int c = 0; c < 3; ++c)
       if (std::isinf(points[i][c]) || std::abs(points[i][c]) > kMaxCoordinate) {
         std::ostringstream problem;
@@ -59,11 +62,10 @@ std::vector<std::size_t> finite_points(const SurfaceInput& surface, CleanReport&
 // Sorting by coordinates, then by index, makes the first occurrence of each point its
 // representative, independently of any hashing. `usable` comes back sorted; `box_diagonal` is
 // the squared diagonal of the usable points' bounding box.
-std::vector<std::size_t> representatives(const std::vector<Vec3>& points,
-                                         std::vector<std::size_t>& usable, CleanReport& report,
-                                         double& box_diagonal) {
-  std::vector<std::size_t> representative(points.size(), kDropped);
-  std::sort(usable.begin(), usable.end(), [&](std::size_t a, std::size_t b) {
+std::vector<Index> representatives(const std::vector<Vec3>& points, std::vector<Index>& usable,
+                                   CleanReport& report, double& box_diagonal) {
+  std::vector<Index> representative(points.size(), kDropped);
+  std::sort(usable.begin(), usable.end(), [&](Index a, Index b) {
     for (int c = 0; c < 3; ++c)
       if (points[a][c] != points[b][c]) return points[a][c] < points[b][c];
     return a < b;
@@ -71,7 +73,7 @@ std::vector<std::size_t> representatives(const std::vector<Vec3>& points,
   Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 high = -low;
   for (std::size_t k = 0; k < usable.size(); ++k) {
-    const std::size_t i = usable[k];
+    const Index i = usable[k];
     const bool duplicate = k > 0 && points[i] == points[usable[k - 1]];
     representative[i] = duplicate ? representative[usable[k - 1]] : i;
     if (duplicate) ++report.duplicate_points;
@@ -84,16 +86,15 @@ std::vector<std::size_t> representatives(const std::vector<Vec3>& points,
 
 // The faces on representatives, without those that lose a corner, repeat one or have (almost)
 // no area; `referenced` marks the corners of the faces kept.
-std::vector<std::array<std::size_t, 3>> kept_faces(const SurfaceInput& surface,
-                                                   const std::vector<std::size_t>& representative,
-                                                   double min_area, CleanReport& report,
-                                                   std::vector<bool>& referenced) {
+std::vector<Face> kept_faces(const SurfaceInput& surface, const std::vector<Index>& representative,
+                             double min_area, CleanReport& report,
+                             std::vector<bool>& referenced) {
   const auto& points = surface.points;
   const std::size_t count = points.size();
-  std::vector<std::array<std::size_t, 3>> faces;
+  std::vector<Face> faces;
   referenced.assign(count, false);
   for (const Face& face : surface.faces) {
-    std::array<std::size_t, 3> corners{};
+    Face corners{};
     bool degenerate = false;
     for (int c = 0; c < 3; ++c) {
       corners[c] = face[c] >= 0 && static_cast<std::size_t>(face[c]) < count
@@ -112,7 +113,7 @@ std::vector<std::array<std::size_t, 3>> kept_faces(const SurfaceInput& surface,
       continue;
     }
     faces.push_back(corners);
-    for (std::size_t corner : corners) referenced[corner] = true;
+    for (Index corner : corners) referenced[corner] = true;
   }
   return faces;
 }
@@ -126,38 +127,49 @@ CleanReport clean_surface(SurfaceInput& surface) {
   if (with_normals && surface.normals.size() != count)
     throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
                        std::to_string(count) + " points");
-  std::vector<std::size_t> usable = finite_points(surface, report);
+  if (count > static_cast<std::size_t>(std::numeric_limits<Index>::max()))
+    throw InvalidInput(std::to_string(count) + " points: at most " +
+                       std::to_string(std::numeric_limits<Index>::max()) + " are supported");
+  std::vector<Index> usable = finite_points(surface, report);
+  const std::size_t usable_count = usable.size();
   double box_diagonal = 0.0;
-  const std::vector<std::size_t> representative =
+  const std::vector<Index> representative =
       representatives(surface.points, usable, report, box_diagonal);
-  const double min_area = usable.empty() ? 0.0 : 1e-14 * box_diagonal;
+  std::vector<Index>().swap(usable);
+  const double min_area = usable_count == 0 ? 0.0 : 1e-14 * box_diagonal;
   std::vector<bool> referenced;
-  const auto faces = kept_faces(surface, representative, min_area, report, referenced);
+  std::vector<Face> faces = kept_faces(surface, representative, min_area, report, referenced);
 
+  // The points kept move down in place (a point's new place is never after its old one): a big
+  // cloud is never held twice.
   const bool mesh = surface.is_mesh();
-  std::vector<int> new_index(count, -1);
-  SurfaceInput cleaned;
-  for (std::size_t i = 0; i < count; ++i) {
+  std::vector<Index> new_index(mesh ? count : 0, kDropped);
+  report.kept.reserve(usable_count - report.duplicate_points);
+  Index kept = 0;
+  for (Index i = 0; i < static_cast<Index>(count); ++i) {
     if (representative[i] != i) continue;
     if (mesh && !referenced[i]) {
       ++report.unused_points;
       continue;
     }
-    new_index[i] = static_cast<int>(cleaned.points.size());
-    report.kept.push_back(static_cast<int>(i));
-    cleaned.points.push_back(surface.points[i]);
+    if (mesh) new_index[i] = kept;
+    report.kept.push_back(i);
+    surface.points[kept] = surface.points[i];
     if (with_normals)
-      cleaned.normals.push_back(has_normal(surface.normals[i]) ? unit(surface.normals[i])
-                                                               : Vec3::Constant(kNoNormal));
+      surface.normals[kept] =
+          has_normal(surface.normals[i]) ? unit(surface.normals[i]) : Vec3::Constant(kNoNormal);
+    ++kept;
   }
+  surface.points.resize(kept);
+  surface.normals.resize(with_normals ? kept : 0);
   // Not one normal given: a plain cloud.
-  if (with_normals && report.missing_normals == usable.size()) {
-    cleaned.normals.clear();
+  if (with_normals && report.missing_normals == usable_count) {
+    surface.normals.clear();
     report.missing_normals = 0;
   }
-  for (const auto& corners : faces)
-    cleaned.faces.push_back({new_index[corners[0]], new_index[corners[1]], new_index[corners[2]]});
-  surface = std::move(cleaned);
+  for (Face& corners : faces)
+    for (Index& corner : corners) corner = new_index[corner];
+  surface.faces = std::move(faces);
   return report;
 }
 

@@ -276,11 +276,13 @@ SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) 
   const auto& z = ply_column(path, *vertex, {"z"});
   const bool has_normals = vertex->find({"nx"}) && vertex->find({"ny"}) && vertex->find({"nz"});
   SurfaceInput surface;
+  surface.points.reserve(vertex->count);
   for (std::size_t i = 0; i < vertex->count; ++i) surface.points.emplace_back(x[i], y[i], z[i]);
   if (has_normals) {
     const auto& nx = ply_column(path, *vertex, {"nx"});
     const auto& ny = ply_column(path, *vertex, {"ny"});
     const auto& nz = ply_column(path, *vertex, {"nz"});
+    surface.normals.reserve(vertex->count);
     for (std::size_t i = 0; i < vertex->count; ++i)
       surface.normals.emplace_back(nx[i], ny[i], nz[i]);
   }

@@ -111,14 +111,14 @@ SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
   if (count_line > 0 && announced != points.size())
     fail(path, "line " + std::to_string(count_line) + " announces " + std::to_string(announced) +
                    " points but " + std::to_string(points.size()) + " follow");
-  PointSink sink;
-  const bool normals = !extra.empty() && !are_colours(extra);
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (normals)
-      sink.add_with_normal(points[i], i < extra.size() ? extra[i] : Vec3::Constant(kNaN));
-    else
-      sink.add(points[i]);
-  return sink.finish();
+  // The points move into the surface: a big cloud is not held twice.
+  SurfaceInput surface;
+  if (!extra.empty() && !are_colours(extra)) {
+    extra.resize(points.size(), Vec3::Constant(kNaN));
+    surface.normals = std::move(extra);
+  }
+  surface.points = std::move(points);
+  return surface;
 }
 
 }  // namespace vmas::io_internal
