@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
-#include <optional>
 #include <string>
 
 #include "denoise.hpp"
@@ -138,15 +137,13 @@ void keep_cells(const Subsample& thin, SurfaceInput& surface, PrepareReport& rep
 }
 
 // Every later stage costs at least linear time in the points; a big cloud's detail below a few
-// hundred points per sphere changes nothing but the time. `thin`: the cloud's subsample when
-// already made.
-void thin_big_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget,
-                    std::optional<Subsample> thin) {
+// hundred points per sphere changes nothing but the time.
+void thin_big_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget) {
   if (surface.is_mesh() || budget == 0 || surface.points.size() <= budget) return;
-  if (!thin) thin = subsample(surface.points, budget);
+  const Subsample thin = subsample(surface.points, budget);
   report.thinned_from = surface.points.size();
-  report.voxel = thin->leaf;
-  keep_cells(*thin, surface, report);
+  report.voxel = thin.leaf;
+  keep_cells(thin, surface, report);
 }
 
 // Keeps the points of `surface` at `kept` (ascending) and counts the others as outliers: the input
@@ -160,52 +157,6 @@ void drop_all_but(const std::vector<int>& kept, SurfaceInput& surface, PrepareRe
   keep_only(report.kept, kept);
   keep_only(surface.points, kept);
   keep_only(surface.normals, kept);
-}
-
-// Moves the prepared points into the working frame of their own (working_frame), composed with
-// the report's.
-void refit_working_frame(SurfaceInput& surface, PrepareReport& report) {
-  const Frame refit = working_frame(surface.points);
-  Frame& frame = report.frame;
-  frame.origin = frame.to_input(refit.origin);
-  frame.axes = frame.axes * refit.axes;
-  frame.scale *= refit.scale;
-  for (Vec3& p : surface.points) p = refit.to_working(p);
-  for (Vec3& n : surface.normals) n = refit.axes.transpose() * n;
-}
-
-// Groups of points apart from the object, on any cloud, clean or noisy: each is one sphere's
-// worth of points that the optimisation would reach out to. A big cloud's are found on its
-// subsample (`thin`, made here), each point weighing the points it stands for. When any are
-// removed, the frame is fitted again and `thin` is reset: the rest is prepared as if the strays
-// had never been there.
-void drop_stray_clusters(SurfaceInput& surface, PrepareReport& report,
-                         const PrepareOptions& options, std::optional<Subsample>& thin) {
-  if (surface.is_mesh() || !options.remove_stray_clusters) return;
-  const std::size_t budget = static_cast<std::size_t>(options.max_points);
-  if (budget > 0 && surface.points.size() > budget) thin = subsample(surface.points, budget);
-  std::vector<Vec3> candidates;
-  std::vector<std::size_t> weights;
-  if (thin) {
-    for (int i : thin->kept) candidates.push_back(surface.points[i]);
-    weights.assign(candidates.size(), 0);
-    for (int cell : thin->representative) ++weights[cell];
-  }
-  const StrayClusterSplit split =
-      without_stray_clusters(thin ? candidates : surface.points, weights);
-  if (split.clusters == 0) return;
-  std::vector<char> kept_cell(thin ? candidates.size() : surface.points.size(), 0);
-  for (int c : split.kept) kept_cell[c] = 1;
-  std::vector<int> kept;
-  for (std::size_t i = 0; i < surface.points.size(); ++i)
-    if (kept_cell[thin ? thin->representative[i] : static_cast<int>(i)])
-      kept.push_back(static_cast<int>(i));
-    else
-      report.stray_points.push_back(static_cast<int>(i));
-  report.stray_clusters = split.clusters;
-  drop_all_but(kept, surface, report);
-  refit_working_frame(surface, report);
-  thin.reset();
 }
 
 // Stray points far from the surface (scanner artefacts, registration leftovers) would each stop
@@ -231,6 +182,28 @@ bool drop_outliers(SurfaceInput& surface, PrepareReport& report, const PrepareOp
   }
   drop_all_but(inliers, surface, report);
   return noise_measured;
+}
+
+// Groups of points apart from the object that the outlier filter left (each point of a group has
+// close neighbours: one another), on any cloud, clean or noisy: each is one sphere's worth of
+// points that the optimisation would reach out to. Judged on the cloud as thinned, each point
+// weighing the input points it stands for; `noise`: the noise if measured (else measured when
+// needed).
+void drop_stray_clusters(SurfaceInput& surface, PrepareReport& report,
+                         const PrepareOptions& options, const NoiseEstimate* noise) {
+  if (surface.is_mesh() || !options.remove_stray_clusters) return;
+  std::vector<std::size_t> weights(surface.points.size(), 0);
+  for (int p : report.stand_in)
+    if (p >= 0) ++weights[p];
+  const StrayClusterSplit split =
+      without_stray_clusters(surface.points, weights, noise ? noise->sigma : -1.0);
+  if (split.clusters == 0) return;
+  const std::vector<int> before = report.stand_in;
+  drop_all_but(split.kept, surface, report);
+  report.stray_clusters = split.clusters;
+  for (std::size_t i = 0; i < before.size(); ++i)
+    if (before[i] >= 0 && report.stand_in[i] < 0)
+      report.stray_points.push_back(static_cast<int>(i));
 }
 
 // Whether the points call for smoothing: the noise measured (unless already) or given.
@@ -343,10 +316,9 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   for (Vec3& p : surface.points) p = report.frame.to_working(p);
   for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
 
-  std::optional<Subsample> thin;
-  drop_stray_clusters(surface, report, options, thin);
-  thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points), std::move(thin));
+  thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points));
   const bool noise_measured = drop_outliers(surface, report, options);
+  drop_stray_clusters(surface, report, options, noise_measured ? &report.noise : nullptr);
   report.diagonal = diagonal_of(bounding_box(surface.points));
   const bool noisy = is_noisy_input(surface, report, options, noise_measured);
   std::vector<Vec3> smoothed_normals;

@@ -1,9 +1,11 @@
 #include "stray_clusters.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 #include "cloud_graph.hpp"
+#include "denoise.hpp"
 #include "disjoint_sets.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -20,6 +22,9 @@ constexpr double kGapInReaches = 2.0;
 // is joined by its own spacing, while a lone stray's neighbours are the object's points, whose
 // spacing is the object's: it cannot reach out by its own emptiness.
 constexpr double kGapInSpacings = 2.0;
+// A piece within this many noise deviations of the object is the noise's tail, not a cluster
+// (Gaussian noise of 30 000 points reaches about 4.3 deviations from the surface).
+constexpr double kNoiseReach = 5.0;
 // A piece holding at most this share of the points is a stray cluster ...
 constexpr double kMaxClusterShare = 0.01;
 // ... unless such pieces together hold more than this: then the data is in many pieces.
@@ -34,7 +39,7 @@ double median_of(std::vector<double> values) {
 }  // namespace
 
 StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
-                                         const std::vector<std::size_t>& weights) {
+                                         const std::vector<std::size_t>& weights, double noise) {
   StrayClusterSplit split;
   const int count = static_cast<int>(points.size());
   split.kept.resize(count);
@@ -81,14 +86,28 @@ StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
   if (object_points.empty() || object_points.size() == points.size()) return split;
 
   // A small piece whose points each have their 16 nearest among themselves can still lie within
-  // reach of the object: the object's nearest point to each of its points decides.
+  // reach of the object: the object's nearest point to each of its points decides. Within a
+  // few noise deviations of it, a piece is the tail of the noise (noise well above the spacing
+  // breaks its tails into pieces; the noise is measured only when there are small pieces). And a
+  // piece no farther from the object than its own size is a part of the surface seen across a
+  // gap (a single range scan's patch behind an occlusion edge), not a cluster apart from it.
+  const double noise_reach = kNoiseReach * (noise >= 0.0 ? noise : estimate_noise(points).sigma);
   std::vector<char> stray(count, 0);
+  std::vector<double> gap_to_object(count, std::numeric_limits<double>::infinity());
+  std::vector<Box> extent(count);
   for (int i = 0; i < count; ++i) stray[pieces.find(i)] = small(i);
   const KdTree object(object_points);
   for (int i = 0; i < count; ++i) {
     const int root = pieces.find(i);
-    if (stray[root] && joined(i, object_index[object.nearest(points[i])])) stray[root] = 0;
+    if (!stray[root]) continue;
+    const int nearest = object_index[object.nearest(points[i])];
+    const double gap = (points[i] - points[nearest]).norm();
+    if (joined(i, nearest) || gap <= noise_reach) stray[root] = 0;
+    gap_to_object[root] = std::min(gap_to_object[root], gap);
+    extent[root].extend(points[i]);
   }
+  for (int root = 0; root < count; ++root)
+    if (stray[root] && gap_to_object[root] <= diagonal_of(extent[root])) stray[root] = 0;
   std::vector<int> kept;
   std::size_t removed = 0, clusters = 0;
   for (int i = 0; i < count; ++i) {

@@ -22,10 +22,14 @@ struct StrayClusterSplit {
 // a sparse part of the sampling (a thin antenna, a tail, an under-scanned base) stays joined by
 // its own density, while a stray, whose neighbours are the object's points, cannot reach out by
 // its own emptiness. Pieces holding at most 1 % of the weight (`weights`: how many input points
-// each point stands for; empty: one each) are removed, unless such pieces together hold more
-// than 10 %: data made of many small pieces is a sparse sampling, not an object with strays.
-// Deterministic.
+// each point stands for; empty: one each) are removed when they lie farther from the object
+// (the pieces holding more) than 5 noise deviations (`noise`, absolute; negative: measured by
+// estimate_noise when there are small pieces: the noise's tails) and than
+// their own size (a patch seen across an occlusion gap is a part of the object), unless such
+// pieces together hold more than 10 %: data made of many small pieces is a sparse sampling, not
+// an object with strays. Deterministic.
 StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
-                                         const std::vector<std::size_t>& weights = {});
+                                         const std::vector<std::size_t>& weights = {},
+                                         double noise = -1.0);
 
 }  // namespace vmas

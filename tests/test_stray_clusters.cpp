@@ -48,8 +48,23 @@ TEST(StrayClusters, AThinAntennaAndASparserTailStay) {
   const StrayClusterSplit split = without_stray_clusters(points);
   EXPECT_EQ(split.clusters, 0u);
   EXPECT_EQ(split.kept.size(), points.size());
-  // The same antenna 0.35 above the pole (10 spacings) is a stray cluster.
-  for (int i = 0; i < 15; ++i) points[points.size() - 25 + i].z() += 0.35;
+  // The same antenna 0.6 above the pole (17 spacings, farther than its length) is a stray
+  // cluster.
+  for (int i = 0; i < 15; ++i) points[points.size() - 25 + i].z() += 0.6;
+  EXPECT_EQ(without_stray_clusters(points).clusters, 1u);
+}
+
+// A single range scan sees a patch of surface behind an occlusion edge across a gap of a few
+// spacings: the patch is larger than the gap, a part of the object.
+TEST(StrayClusters, APatchSeenAcrossAGapStays) {
+  std::vector<Vec3> points = test::sample_sphere(Vec3::Zero(), 1.0, 10000, 8).points;
+  const std::size_t sphere = points.size();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> square(-0.2, 0.2);
+  for (int i = 0; i < 60; ++i) points.emplace_back(1.25, square(rng), square(rng));
+  EXPECT_EQ(without_stray_clusters(points).clusters, 0u);
+  // The same patch far out is a stray cluster.
+  for (std::size_t i = sphere; i < points.size(); ++i) points[i].x() += 1.0;
   EXPECT_EQ(without_stray_clusters(points).clusters, 1u);
 }
 
