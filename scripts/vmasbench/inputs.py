@@ -234,3 +234,34 @@ def scaling_cloud(args, model, points, faces, count, work):
         samples.astype("<f4").tofile(f)
     os.replace(path + ".tmp", path)
     return path, seed, False
+
+
+# ---------------------------------------------------------------------------------------------
+# Real scans
+
+
+def _quaternion_matrix(x, y, z, w):
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def merged_range_scans(conf, read_points, path):
+    """The range scans a Stanford .conf lists (`bmesh FILE tx ty tz qx qy qz qw`: a point p of
+    the scan goes to R(q)ᵀp + t), merged into one cloud written to `path` (x y z), as a
+    registration pipeline hands it on; kept when already there. `read_points(file)`: its points
+    as stored. Returns `path`."""
+    if os.path.isfile(path):
+        return path
+    folder, merged = os.path.dirname(conf), []
+    with open(conf, encoding="utf-8") as f:
+        for line in f:
+            words = line.split()
+            if len(words) != 9 or words[0] != "bmesh":
+                continue
+            t, q = np.array(words[2:5], float), [float(v) for v in words[5:9]]
+            merged.append(np.asarray(read_points(os.path.join(folder, words[1]))) @
+                          _quaternion_matrix(*q) + t)
+    vmas_files.write_xyz(path + ".tmp", np.vstack(merged))
+    os.replace(path + ".tmp", path)
+    return path

@@ -1,15 +1,19 @@
-"""The sections as run: Table 1, Table 2 (and the picture of its worst row), Table 3 and
-the scaling, each walking its models and inputs, running vmas on each and storing the rows in
-the results (saved as they come)."""
+"""The sections as run: Table 1, Table 2 (and the picture of its worst row), Table 3, the real
+scans and the scaling, each walking its models and inputs, running vmas on each and storing the
+rows in the results (saved as they come)."""
 
+import argparse
 import math
 import os
+
+import numpy as np
 
 import vmas_files
 
 from . import running
 from .inputs import (SPARSE_MAX_SPHERES, STREAM_SAMPLES, TRANSFORMS, cap_cut, lid_bound,
-                     moved_copy, noise_inputs, scaling_cloud, seed_sequence, sparse_cloud)
+                     merged_range_scans, moved_copy, noise_inputs, scaling_cloud, seed_sequence,
+                     sparse_cloud)
 from .plots import plot_scaling, render
 from .running import evaluate, read_mesh, skeletonize
 from .tables import KIND_LABEL, REFERENCES, entry_eps, noise_targets, row_eps
@@ -212,6 +216,69 @@ def table3(args, paper, results, save, log):
             row["transforms"]["vertex_cloud"].append(dict(run_and_measure(
                 args, log, f"{model}, moved vertex cloud {t}", moved_xyz, moved_off,
                 base + f"_moved{t}_vertices.ply", spheres), scale=scale))
+        save()
+
+
+# The real scans: files of DATA/scans read as clouds, the range scans of DATA/scans/bunny_range
+# merged by their poses, at the default sphere count; the reconstruction of the bunny scans.
+SCAN_EXTENSIONS = (".xyz", ".ply", ".pcd", ".off", ".obj")
+SCAN_SPHERES = 100
+RANGE_SCANS = os.path.join("bunny_range", "bun.conf")
+SCAN_RECONSTRUCTIONS = {"bunny_merged_45k.xyz": os.path.join("bunny_range", "bun_zipper.ply"),
+                        "bunny_range_merged.xyz": os.path.join("bunny_range", "bun_zipper.ply")}
+
+
+def scan_inputs(args, work):
+    """(name, path, reconstruction or None) of every real scan."""
+    folder = os.path.join(args.data, "scans")
+    if not os.path.isdir(folder):
+        return []
+    names = sorted(f for f in os.listdir(folder)
+                   if f.lower().endswith(SCAN_EXTENSIONS) and os.path.isfile(os.path.join(folder, f)))
+    scans = [(name, os.path.join(folder, name)) for name in names]
+    if os.path.isfile(os.path.join(folder, RANGE_SCANS)):
+        merged = os.path.join(work, "bunny_range_merged.xyz")
+        scans.append((os.path.basename(merged), merged_range_scans(
+            os.path.join(folder, RANGE_SCANS), lambda f: running.vmas.read(f).points, merged)))
+    return [(name, path, os.path.join(folder, SCAN_RECONSTRUCTIONS[name])
+             if name in SCAN_RECONSTRUCTIONS else None) for name, path in scans]
+
+
+def run_scan(args, binary, tag, path, work, reconstruction, log):
+    """One binary's run on a scan: its summary, time and peak memory, and its ε against the
+    points it kept (labels ≥ 0: the data as vmas used it; the points it dropped are counted)
+    and against the reconstruction when there is one."""
+    name = os.path.basename(path)
+    ply = os.path.join(work, f"{name}.{tag}.ply")
+    labels = os.path.join(work, f"{name}.{tag}.labels")
+    run_args = argparse.Namespace(**{**vars(args), "vmas": binary})
+    log(f"[scans] {name}: {tag} skeletonize")
+    entry = skeletonize(run_args, path, ply, SCAN_SPHERES, memory=True,
+                        extra=("--labels", labels))
+    if entry.get("error"):
+        return entry
+    points = np.asarray(running.vmas.read(path).points)
+    kept = np.loadtxt(labels, dtype=np.int64, ndmin=1) >= 0
+    entry["dropped_points"] = int(np.count_nonzero(~kept))
+    kept_xyz = os.path.join(work, f"{name}.{tag}.kept.xyz")
+    vmas_files.write_xyz(kept_xyz, points[kept])
+    entry["eval"] = evaluate(args.vmas, kept_xyz, ply, args.timeout)
+    if reconstruction:
+        entry["eval_reconstruction"] = evaluate(args.vmas, reconstruction, ply, args.timeout)
+    os.remove(kept_xyz)
+    return entry
+
+
+def scans(args, results, save, log):
+    """Every real scan with --vmas and, given --base-vmas, with the previous release's binary."""
+    work = os.path.join(args.out, "scans")
+    os.makedirs(work, exist_ok=True)
+    for name, path, reconstruction in scan_inputs(args, work):
+        row = {"scan": name, "input": path, "reconstruction": reconstruction}
+        results["scans"].append(row)
+        row["ours"] = run_scan(args, args.vmas, "ours", path, work, reconstruction, log)
+        if args.base_vmas:
+            row["base"] = run_scan(args, args.base_vmas, "base", path, work, reconstruction, log)
         save()
 
 

@@ -1,6 +1,7 @@
 """The Markdown of bench.md, built from the results alone: the cell formats, Table 1 against the
 paper and the reference methods, the targets of Table 2 (noise_targets, which also stores them in
-the results) and its tables and summaries, Table 3 with its targets, the scaling table."""
+the results) and its tables and summaries, Table 3 with its targets, the real scans beside the
+previous release, the scaling table."""
 
 import math
 import os
@@ -537,6 +538,44 @@ def thinning_cell(ours):
     if thinning.get("applied"):
         return f"{thinning['points']} (thinned, voxel {thinning.get('voxel_percent', 0):.3g} %)"
     return f"{thinning['points']} (all)"
+
+
+# ---------------------------------------------------------------------------------------------
+# Real scans
+
+
+def _scan_cells(entry):
+    """ε against its kept points, against the reconstruction, seconds, peak MB, points dropped,
+    stray clusters: of one binary's run (entry of sections.run_scan)."""
+    if entry is None:
+        return ["–"] * 6
+    if entry.get("error"):
+        return ["FAILED: " + cell(entry["error"])[:80]] + ["–"] * 5
+    summary = entry.get("summary") or {}
+    strays = summary.get("stray_clusters") or {}
+    rss = entry.get("peak_rss_kb")
+    return [eps_cell(entry.get("eval")), eps_cell(entry.get("eval_reconstruction"))
+            if entry.get("eval_reconstruction") else "–", cell(entry.get("wall_s"), 2),
+            cell(rss / 1024.0, 0) if rss else "–", cell(entry.get("dropped_points")),
+            cell(strays.get("count")) if strays else "–"]
+
+
+def format_scans(results):
+    rows = results.get("scans") or []
+    with_base = any("base" in row for row in rows)
+    header = ["scan", "ε % against its kept points", "ε % against the reconstruction",
+              "time s", "peak MB", "points dropped", "stray clusters"]
+    lines = []
+    for row in rows:
+        ours = _scan_cells(row.get("ours"))
+        if with_base:
+            base = _scan_cells(row.get("base"))
+            ours = [f"{a} (base {b})" for a, b in zip(ours, base)]
+        lines.append([cell(row["scan"])] + ours)
+    note = ("\nAt 100 spheres. ε against the points the run kept (labels ≥ 0: outliers and stray "
+            "clusters dropped, counted beside) and against the reconstruction where the scan has "
+            "one (the Stanford bunny's `bun_zipper.ply`); (base x): the same with `--base-vmas`.")
+    return markdown_table(header, lines) + "\n" + note if rows else "no scans found"
 
 
 def format_scaling(results, args):
