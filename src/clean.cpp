@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "radix_sort.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -58,37 +61,65 @@ std::vector<Index> finite_points(const SurfaceInput& surface, CleanReport& repor
   return usable;
 }
 
-// For every point, the first of the usable points at the same place (kDropped: not usable).
-// Sorting by coordinates, then by index, makes the first occurrence of each point its
-// representative, independently of any hashing. `usable` comes back sorted; `box_diagonal` is
-// the squared diagonal of the usable points' bounding box.
-std::vector<Index> representatives(const std::vector<Vec3>& points, std::vector<Index>& usable,
-                                   CleanReport& report, double& box_diagonal) {
+// A hash of a point's coordinates (their bits: -0 taken as 0, which equals it), whose high bits
+// sort the points so that equal ones come together.
+std::uint64_t place_hash(const Vec3& p) {
+  std::uint64_t hash = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double value = p[c] + 0.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    hash = (hash ^ bits) * 0x9e3779b97f4a7c15ull;  // splitmix64's mixing after each coordinate
+    hash ^= hash >> 31;
+  }
+  return hash;
+}
+
+// For every point, the first of the usable points at the same place (kDropped: not usable), and
+// the duplicates counted. The points are sorted by one 64-bit key, the high bits of their
+// place's hash above their index (a radix sort: sorting millions of points by coordinates took
+// seconds), so that each run of equal hashes lists its points by index and the first one at
+// each place in it is its representative. `box_diagonal` is the squared diagonal of the usable
+// points' bounding box.
+std::vector<Index> representatives(const std::vector<Vec3>& points,
+                                   const std::vector<Index>& usable, CleanReport& report,
+                                   double& box_diagonal) {
+  constexpr int kIndexBits = 31;
+  constexpr std::uint64_t kIndexMask = (std::uint64_t{1} << kIndexBits) - 1;
   std::vector<Index> representative(points.size(), kDropped);
-  std::sort(usable.begin(), usable.end(), [&](Index a, Index b) {
-    for (int c = 0; c < 3; ++c)
-      if (points[a][c] != points[b][c]) return points[a][c] < points[b][c];
-    return a < b;
-  });
+  std::vector<std::uint64_t> keys;
+  keys.reserve(usable.size());
   Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 high = -low;
-  for (std::size_t k = 0; k < usable.size(); ++k) {
-    const Index i = usable[k];
-    const bool duplicate = k > 0 && points[i] == points[usable[k - 1]];
-    representative[i] = duplicate ? representative[usable[k - 1]] : i;
-    if (duplicate) ++report.duplicate_points;
+  for (const Index i : usable) {
+    keys.push_back((place_hash(points[i]) & ~kIndexMask) | static_cast<std::uint64_t>(i));
     low = low.cwiseMin(points[i]);
     high = high.cwiseMax(points[i]);
   }
   box_diagonal = (high - low).squaredNorm();
+  internal::radix_sort(keys);
+  std::vector<Index> places;  // the representatives met in the current run
+  for (std::size_t first = 0, last = 0; first < keys.size(); first = last) {
+    places.clear();
+    for (last = first;
+         last < keys.size() && (keys[last] >> kIndexBits) == (keys[first] >> kIndexBits); ++last) {
+      const auto i = static_cast<Index>(keys[last] & kIndexMask);
+      const auto same = std::find_if(places.begin(), places.end(),
+                                     [&](Index place) { return points[place] == points[i]; });
+      representative[i] = same == places.end() ? i : *same;
+      if (same == places.end())
+        places.push_back(i);
+      else
+        ++report.duplicate_points;
+    }
+  }
   return representative;
 }
 
 // The faces on representatives, without those that lose a corner, repeat one or have (almost)
 // no area; `referenced` marks the corners of the faces kept.
 std::vector<Face> kept_faces(const SurfaceInput& surface, const std::vector<Index>& representative,
-                             double min_area, CleanReport& report,
-                             std::vector<bool>& referenced) {
+                             double min_area, CleanReport& report, std::vector<bool>& referenced) {
   const auto& points = surface.points;
   const std::size_t count = points.size();
   std::vector<Face> faces;

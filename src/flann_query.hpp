@@ -12,6 +12,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "radix_sort.hpp"
+
 // Hidden: internal to the library, never exported (src/exports.map exports the vmas API).
 namespace vmas {
 namespace flann_query __attribute__((visibility("hidden"))) {
@@ -43,9 +45,9 @@ std::size_t k_nearest(const Index& index, const T* query, std::size_t k, std::si
 
 // found/squared sorted as FLANN sorts results (nearest first, lower index among equals), by one
 // integer key per result (the bits of a non-negative float order as the float does) and a radix
-// sort: sorting FLANN's (distance, index) pairs was a tenth of a noisy cloud's run.
+// sort (radix_sort.hpp): sorting FLANN's (distance, index) pairs was a tenth of a noisy cloud's
+// run.
 inline void sort_nearest_first(std::vector<std::size_t>& found, std::vector<float>& squared) {
-  constexpr std::size_t kRadixFrom = 128;  // shorter lists: a comparison sort is as fast
   const std::size_t n = found.size();
   std::vector<std::uint64_t> keys(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -53,23 +55,7 @@ inline void sort_nearest_first(std::vector<std::size_t>& found, std::vector<floa
     std::memcpy(&bits, &squared[i], sizeof bits);
     keys[i] = (std::uint64_t{bits} << 32) | found[i];
   }
-  if (n < kRadixFrom) {
-    std::sort(keys.begin(), keys.end());
-  } else {
-    // Least significant byte first; a byte that every key shares is skipped. The counts of all
-    // eight bytes come from one pass.
-    std::size_t starts[8][257] = {};
-    for (const std::uint64_t key : keys)
-      for (int byte = 0; byte < 8; ++byte) ++starts[byte][((key >> (8 * byte)) & 0xff) + 1];
-    std::vector<std::uint64_t> sorted(n);
-    for (int byte = 0; byte < 8; ++byte) {
-      std::size_t* start = starts[byte];
-      if (std::find(start + 1, start + 257, n) != start + 257) continue;
-      std::partial_sum(start, start + 257, start);
-      for (const std::uint64_t key : keys) sorted[start[(key >> (8 * byte)) & 0xff]++] = key;
-      keys.swap(sorted);
-    }
-  }
+  internal::radix_sort(keys);
   for (std::size_t i = 0; i < n; ++i) {
     const auto bits = static_cast<std::uint32_t>(keys[i] >> 32);
     std::memcpy(&squared[i], &bits, sizeof bits);

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "radix_sort.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {
@@ -49,7 +50,7 @@ std::size_t occupied_cells(const std::vector<Vec3>& points, const std::vector<st
   keys.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     keys[i] = grid.key(points[i], group_of(groups, i));
-  std::sort(keys.begin(), keys.end());
+  internal::radix_sort(keys);
   return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
 

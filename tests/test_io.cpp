@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -583,6 +584,24 @@ TEST(IoClean, CloudKeepsFirstDuplicateAndOrderAndPointsWithoutNormals) {
   EXPECT_EQ(cloud.normals[1], Vec3(0, 1, 0));
   EXPECT_TRUE(std::isnan(cloud.normals[2].x()) && std::isnan(cloud.normals[3].x()));
   EXPECT_EQ(report.kept, (std::vector<int>{0, 1, 3, 4}));
+}
+
+// Duplicates are found by equal coordinates, -0 equal to 0, however many and wherever they are
+// (cleaning groups points by a hash of their place).
+TEST(IoClean, DuplicatesAreEqualCoordinatesWhereverTheyAre) {
+  SurfaceInput cloud;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int i = 0; i < 3000; ++i) cloud.points.push_back(test::draw_xyz([&] { return unit(rng); }));
+  std::vector<int> expected(cloud.points.size());
+  std::iota(expected.begin(), expected.end(), 0);
+  for (int i = 0; i < 1000; ++i) cloud.points.push_back(cloud.points[(7 * i) % 3000]);
+  cloud.points.emplace_back(0.0, -0.0, 1.0);
+  expected.push_back(4000);
+  cloud.points.emplace_back(-0.0, 0.0, 1.0);
+  const CleanReport report = clean_surface(cloud);
+  EXPECT_EQ(report.duplicate_points, 1001u);
+  EXPECT_EQ(report.kept, expected);
 }
 
 // ---------------------------------------------------------------------------------------------
