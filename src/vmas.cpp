@@ -14,6 +14,7 @@
 #include "normals.hpp"
 #include "stopwatch.hpp"
 #include "validate_member.hpp"
+#include "validity.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/kdtree.hpp"
 
@@ -120,6 +121,15 @@ std::vector<Warning> warnings_about(const Result& result) {
                                " components, the input " + std::to_string(result.input_components) +
                                ": a thin part may have lost its spheres; more spheres "
                                "(--spheres) usually join them"});
+  const InvalidSpheres& invalid = result.invalid_spheres;
+  if (invalid.outside > 0 || invalid.radius_off > 0)
+    warnings.push_back(
+        {"invalid-spheres", std::to_string(invalid.outside) + " of " +
+                                std::to_string(result.medial_mesh.spheres.size()) +
+                                " sphere centres lie outside the closed input and " +
+                                std::to_string(invalid.radius_off) +
+                                " radii differ from the distance to its surface by more than 1 % "
+                                "of the diagonal: those spheres are no medial balls"});
   if (result.measured_error > kLargeError) {
     char figure[32];
     std::snprintf(figure, sizeof figure, "%.2f", 100.0 * result.measured_error);
@@ -283,18 +293,18 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
     });
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
+  std::unique_ptr<Evaluator> measurer;
   if (evaluator.valid()) {
     const auto refine_start = Clock::now();
-    const std::unique_ptr<Evaluator> built = evaluator.get();
-    result.refine = refine_worst_served(skeletonizer, *built, options.refine, progress);
+    measurer = evaluator.get();
+    result.refine = refine_worst_served(skeletonizer, *measurer, options.refine, progress);
     if (result.refine.cancelled) throw Cancelled();
     // The stage's time, waiting for the evaluator included, in both places it is reported.
     result.seconds.refine = result.refine.seconds = seconds_since(refine_start);
     result.measured_error = result.refine.error_after;
   } else {
-    result.measured_error =
-        Evaluator(prepared.surface, measure)(skeletonizer.medial_mesh())
-            .hausdorff;
+    measurer = std::make_unique<Evaluator>(prepared.surface, measure);
+    result.measured_error = (*measurer)(skeletonizer.medial_mesh()).hausdorff;
   }
   if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
@@ -313,6 +323,14 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
   result.enclosure = prepared.surface.is_mesh() && result.mesh_defects.closed()
                          ? 1.0
                          : skeletonizer.projector().enclosure();
+  // Inside and the distance to the surface say something of a sphere only on a closed input.
+  const bool closed = prepared.surface.is_mesh()
+                          ? result.mesh_defects.closed()
+                          : result.enclosure >= MedialProjector::kEnclosed &&
+                                result.prepare.holes.empty();
+  if (closed)
+    result.invalid_spheres = invalid_spheres(skeletonizer.spheres(), skeletonizer.projector(),
+                                             *measurer, result.prepare.diagonal);
 
   // Labels of the shape's vertices, back through preparation and cleaning to the input.
   result.labels.assign(input_points, -1);

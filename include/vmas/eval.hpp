@@ -84,6 +84,9 @@ class Evaluator {
   Evaluator& operator=(const Evaluator&) = delete;
   // Throws as evaluate() does for the medial mesh.
   EvalResult operator()(const MedialMesh& medial);
+  // The distance of each query to the shape, as the medial -> surface side measures it (a
+  // mesh's faces; a cloud's points, or their tangent discs with cloud_as_discs).
+  std::vector<double> distances_to_shape(const std::vector<Vec3>& queries) const;
 
  private:
   struct Impl;

@@ -71,6 +71,16 @@ struct SmoothingCheck {
   double unsmoothed_cover = 0.0;  // and of the unsmoothed points' skeleton
 };
 
+// Spheres that a closed input shows to be no medial balls (invalid_spheres in src/validity.hpp):
+// counted only when the input encloses a volume (a mesh without defects, or a cloud whose
+// winding number reads closed and that has no holes).
+struct InvalidSpheres {
+  bool checked = false;        // the input is closed, so the counts below mean something
+  std::size_t outside = 0;     // centres whose winding number is at most ½
+  std::size_t radius_off = 0;  // radii further than 1 % of the diagonal from the centre's
+                               // distance to the surface
+};
+
 struct Result {
   MedialMesh medial_mesh;   // in the input's coordinates
   std::vector<int> labels;  // one per input point: the sphere whose cluster holds it; -1 for a
@@ -84,6 +94,7 @@ struct Result {
                              // for a mesh without boundary, non-manifold or misoriented edges)
   int input_components = 0;  // of the shape's neighbour graph (mesh edges or k-NN graph)
   int skeleton_components = 0;  // of the medial mesh
+  InvalidSpheres invalid_spheres;
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
                                 // data (the refinement's measure), fraction of its diagonal
   SmoothingCheck smoothing_check;

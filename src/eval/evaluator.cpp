@@ -198,6 +198,11 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
 
 Evaluator::~Evaluator() = default;
 
+std::vector<double> Evaluator::distances_to_shape(const std::vector<Vec3>& queries) const {
+  return impl_->distance(queries);
+}
+
+
 EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
                     const EvalOptions& options) {
   return Evaluator(shape, options)(medial);
