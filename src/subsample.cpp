@@ -121,8 +121,7 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
   std::sort(result.kept.begin(), result.kept.end());
   for (auto& [key, cell] : cells)
     cell.position = static_cast<int>(
-        std::lower_bound(result.kept.begin(), result.kept.end(), cell.point) -
-        result.kept.begin());
+        std::lower_bound(result.kept.begin(), result.kept.end(), cell.point) - result.kept.begin());
   result.representative.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     result.representative[i] = cells.at(grid.key(points[i], group_of(groups, i))).position;

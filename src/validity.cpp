@@ -14,9 +14,8 @@ constexpr double kRadiusTolerance = 0.01;
 
 }  // namespace
 
-InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres,
-                               const MedialProjector& projector, const Evaluator& evaluator,
-                               double diagonal) {
+InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialProjector& projector,
+                               const Evaluator& evaluator, double diagonal) {
   InvalidSpheres invalid;
   invalid.checked = true;
   std::vector<Vec3> centers;

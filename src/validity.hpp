@@ -15,8 +15,7 @@ namespace vmas {
 // `evaluator`'s): a centre is outside where the projector's winding number is at most ½, a
 // radius off where it differs from evaluator.distances_to_shape by more than 1 % of `diagonal`.
 // `checked` is set; the caller decides whether the input is closed.
-InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres,
-                               const MedialProjector& projector, const Evaluator& evaluator,
-                               double diagonal);
+InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialProjector& projector,
+                               const Evaluator& evaluator, double diagonal);
 
 }  // namespace vmas
