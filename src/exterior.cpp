@@ -12,18 +12,6 @@ namespace {
 constexpr int kMaxCellsPerSide = 256;
 // Free cells of margin around the points' box, so that the fill goes round the whole surface.
 constexpr int kMargin = 3;
-
-// One bit per cell.
-class CellBits {
- public:
-  explicit CellBits(std::size_t cells) : words_((cells + 63) / 64, 0) {}
-  bool operator[](std::size_t i) const { return (words_[i >> 6] >> (i & 63)) & 1u; }
-  void set(std::size_t i) { words_[i >> 6] |= std::uint64_t{1} << (i & 63); }
-  std::vector<std::uint64_t> release() { return std::move(words_); }
-
- private:
-  std::vector<std::uint64_t> words_;
-};
 }  // namespace
 
 ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
@@ -39,7 +27,8 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
   ny_ = cells_along(box.sizes().y());
   nz_ = cells_along(box.sizes().z());
   const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
-  CellBits wall(layer * nz_), outside(layer * nz_);
+  CellBits wall(layer * nz_);
+  outside_ = CellBits(layer * nz_);
   for (const Vec3& p : points) {
     const Vec3 c = (p - low_) / cell_;
     const int x = static_cast<int>(c.x()), y = static_cast<int>(c.y()), z = static_cast<int>(c.z());
@@ -51,7 +40,7 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
   // Breadth-first over face neighbours from a corner (the margin is free all round), one front
   // at a time: a front is a surface through the grid, far fewer cells than the fill reaches.
   std::vector<std::uint32_t> front{0}, next;
-  outside.set(0);
+  outside_.set(0);
   while (!front.empty()) {
     next.clear();
     for (const std::size_t i : front) {
@@ -67,14 +56,13 @@ ExteriorGrid::ExteriorGrid(const std::vector<Vec3>& points, double cell) {
       for (const auto& [on_grid, offset] : steps) {
         if (!on_grid) continue;
         const std::size_t j = i + offset;
-        if (wall[j] || outside[j]) continue;
-        outside.set(j);
+        if (wall[j] || outside_[j]) continue;
+        outside_.set(j);
         next.push_back(static_cast<std::uint32_t>(j));
       }
     }
     front.swap(next);
   }
-  outside_ = outside.release();
 }
 
 bool ExteriorGrid::outside(const Vec3& p) const {
@@ -84,8 +72,7 @@ bool ExteriorGrid::outside(const Vec3& p) const {
   const auto x = static_cast<std::size_t>(c.x()), y = static_cast<std::size_t>(c.y()),
              z = static_cast<std::size_t>(c.z());
   if (x >= std::size_t(nx_) || y >= std::size_t(ny_) || z >= std::size_t(nz_)) return true;
-  const std::size_t i = (z * ny_ + y) * nx_ + x;
-  return (outside_[i >> 6] >> (i & 63)) & 1u;
+  return outside_[(z * ny_ + y) * nx_ + x];
 }
 
 }  // namespace vmas::internal

@@ -22,10 +22,23 @@ class ExteriorGrid {
   bool outside(const Vec3& p) const;
 
  private:
+  // One bit per cell.
+  class CellBits {
+   public:
+    CellBits() = default;
+    explicit CellBits(std::size_t cells) : words_((cells + 63) / 64, 0) {}
+    bool empty() const { return words_.empty(); }
+    bool operator[](std::size_t i) const { return (words_[i >> 6] >> (i & 63)) & 1u; }
+    void set(std::size_t i) { words_[i >> 6] |= std::uint64_t{1} << (i & 63); }
+
+   private:
+    std::vector<std::uint64_t> words_;
+  };
+
   Vec3 low_;
   double cell_ = 0.0;
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<std::uint64_t> outside_;  // one bit per cell: reached by the fill
+  CellBits outside_;  // by cell: reached by the fill
 };
 
 }  // namespace internal

@@ -423,7 +423,13 @@ void check_enough_points(int count, int k, const char* what) {
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options) {
   options.validate();
   check_enough_points(static_cast<int>(points.size()), options.k, "estimate normals");
-  const Neighbourhoods neighbours = k_nearest_all(points, options.k);
+  return estimate_normals(points, options, k_nearest_all(points, options.k));
+}
+
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options,
+                                   const Neighbourhoods& neighbours) {
+  options.validate();
+  check_enough_points(static_cast<int>(points.size()), options.k, "estimate normals");
   std::vector<Vec3> normals = fitted_normals(points, neighbours);  // NaN where degenerate
   orient(points, normals, neighbours);
   return normals;

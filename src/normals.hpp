@@ -4,6 +4,7 @@
 // global check that the normals point away from the inside).
 #include <vector>
 
+#include "cloud_graph.hpp"
 #include "vmas/prepare.hpp"
 
 namespace vmas {
@@ -13,6 +14,9 @@ namespace vmas {
 // k + 1 points. Deterministic whatever the thread count; never returns NaN (a degenerate
 // neighbourhood gets a finite normal whose line may be arbitrary).
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options);
+// As above, with the points' neighbourhoods already found: k_nearest_all(points, options.k).
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& points, const NormalOptions& options,
+                                   const internal::Neighbourhoods& neighbours);
 
 // The file's normals replaced by the normals of the surface that the points sample, each with its
 // file normal's sign: `fitted` (one per point, unoriented; NaN where unknown) or, when empty, plane

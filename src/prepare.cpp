@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <string>
 
+#include "cloud_graph.hpp"
 #include "denoise.hpp"
 #include "holes.hpp"
 #include "normals.hpp"
@@ -188,22 +190,29 @@ bool drop_outliers(SurfaceInput& surface, PrepareReport& report, const PrepareOp
 // close neighbours: one another), on any cloud, clean or noisy: each is one sphere's worth of
 // points that the optimisation would reach out to. Judged on the cloud as thinned, each point
 // weighing the input points it stands for; `noise`: the noise if measured (else measured when
-// needed).
-void drop_stray_clusters(SurfaceInput& surface, PrepareReport& report,
-                         const PrepareOptions& options, const NoiseEstimate* noise) {
-  if (surface.is_mesh() || !options.remove_stray_clusters) return;
+// needed). Returns the points' kJoiningNeighbours neighbourhoods when no point went (none when
+// it did not look, or did remove points).
+std::optional<internal::Neighbourhoods> drop_stray_clusters(SurfaceInput& surface,
+                                                            PrepareReport& report,
+                                                            const PrepareOptions& options,
+                                                            const NoiseEstimate* noise) {
+  if (surface.is_mesh() || !options.remove_stray_clusters) return std::nullopt;
   std::vector<std::size_t> weights(surface.points.size(), 0);
   for (int p : report.stand_in)
     if (p >= 0) ++weights[p];
+  internal::Neighbourhoods rows =
+      internal::k_nearest_all(surface.points, internal::kJoiningNeighbours);
   const StrayClusterSplit split =
-      without_stray_clusters(surface.points, weights, noise ? noise->sigma : -1.0);
-  if (split.clusters == 0) return;
-  const std::vector<int> before = report.stand_in;
-  drop_all_but(split.kept, surface, report);
-  report.stray_clusters = split.clusters;
-  for (std::size_t i = 0; i < before.size(); ++i)
-    if (before[i] >= 0 && report.stand_in[i] < 0)
+      without_stray_clusters(surface.points, rows, weights, noise ? noise->sigma : -1.0);
+  if (split.clusters == 0) return rows;
+  std::vector<char> kept(surface.points.size(), 0);
+  for (int p : split.kept) kept[p] = 1;
+  for (std::size_t i = 0; i < report.stand_in.size(); ++i)
+    if (report.stand_in[i] >= 0 && !kept[report.stand_in[i]])
       report.stray_points.push_back(static_cast<int>(i));
+  report.stray_clusters = split.clusters;
+  drop_all_but(split.kept, surface, report);
+  return std::nullopt;
 }
 
 // Whether the points call for smoothing: the noise measured (unless already) or given.
@@ -282,7 +291,8 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
 // none (or they are not wanted), else the file's signs on the normals of the surface (smoothed or
 // fitted to the points), and, when asked, re-oriented.
 void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOptions& options,
-                   std::vector<Vec3> smoothed_normals) {
+                   std::vector<Vec3> smoothed_normals,
+                   const std::optional<internal::Neighbourhoods>& neighbours) {
   const bool estimate = !surface.has_normals() || options.estimate_normals;
   if (!smoothed_normals.empty() && estimate) {
     // The MLS normals are those of the smoothed surface at the noise's scale: better than a
@@ -291,7 +301,10 @@ void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOp
     orient_smoothed_normals(surface.points, surface.normals, options.normals.k);
     report.normals_estimated = true;
   } else if (estimate) {
-    surface.normals = estimate_normals(surface.points, options.normals);
+    // The stray clusters' neighbourhoods serve when the points are still theirs and k agrees.
+    surface.normals = neighbours && options.normals.k == internal::kJoiningNeighbours
+                          ? estimate_normals(surface.points, options.normals, *neighbours)
+                          : estimate_normals(surface.points, options.normals);
     report.normals_estimated = true;
   } else {
     refit_given_normals(surface.points, surface.normals, options.normals.k,
@@ -318,7 +331,8 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
 
   thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points));
   const bool noise_measured = drop_outliers(surface, report, options);
-  drop_stray_clusters(surface, report, options, noise_measured ? &report.noise : nullptr);
+  std::optional<internal::Neighbourhoods> neighbours =
+      drop_stray_clusters(surface, report, options, noise_measured ? &report.noise : nullptr);
   report.diagonal = diagonal_of(bounding_box(surface.points));
   const bool noisy = is_noisy_input(surface, report, options, noise_measured);
   std::vector<Vec3> smoothed_normals;
@@ -326,12 +340,14 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     report.residual_noise = report.noise.sigma;
   else if (surface.is_mesh())
     smooth_noisy_mesh(surface, report, options);
-  else
+  else {
+    neighbours.reset();  // the smoothing moves the points
     smoothed_normals = smooth_noisy_cloud(surface, report, options);
+  }
   // A mesh's normals, areas and quadrics come from its faces, its holes are its boundary edges
   // (MeshDefects).
   if (!surface.is_mesh()) {
-    cloud_normals(surface, report, options, std::move(smoothed_normals));
+    cloud_normals(surface, report, options, std::move(smoothed_normals), neighbours);
     report.holes = find_holes(surface.points, surface.normals, report.smoothed());
   }
   report.seconds = internal::seconds_since(start);

@@ -4,7 +4,6 @@
 #include <limits>
 #include <numeric>
 
-#include "cloud_graph.hpp"
 #include "denoise.hpp"
 #include "disjoint_sets.hpp"
 #include "vmas/kdtree.hpp"
@@ -40,13 +39,18 @@ double median_of(std::vector<double> values) {
 
 StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
                                          const std::vector<std::size_t>& weights, double noise) {
+  return without_stray_clusters(
+      points, internal::k_nearest_all(points, internal::kJoiningNeighbours), weights, noise);
+}
+
+StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
+                                         const internal::Neighbourhoods& rows,
+                                         const std::vector<std::size_t>& weights, double noise) {
   StrayClusterSplit split;
   const int count = static_cast<int>(points.size());
   split.kept.resize(count);
   std::iota(split.kept.begin(), split.kept.end(), 0);
   if (count <= internal::kJoiningNeighbours + 1) return split;
-  const internal::Neighbourhoods rows =
-      internal::k_nearest_all(points, internal::kJoiningNeighbours);
   std::vector<double> reach(count), nearest(count), spacing(count, 0.0);
   for (int i = 0; i < count; ++i) {
     reach[i] = (points[rows.row(i)[rows.width - 1]] - points[i]).norm();

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "cloud_graph.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
@@ -31,5 +32,10 @@ struct StrayClusterSplit {
 StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
                                          const std::vector<std::size_t>& weights = {},
                                          double noise = -1.0);
+// As above, with `rows` = k_nearest_all(points, kJoiningNeighbours) already found (preparation
+// hands them on to the normals).
+StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
+                                         const internal::Neighbourhoods& rows,
+                                         const std::vector<std::size_t>& weights, double noise);
 
 }  // namespace vmas

@@ -113,8 +113,8 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
   for (std::size_t i = 0; i < n; ++i) {
     const double distance = grid.squared_distance_to_centre(points[i]);
     const auto [cell, added] =
-        cells.try_emplace(grid.key(points[i], group_of(groups, i)), Cell{int(i), distance, -1});
-    if (!added && distance < cell->second.distance) cell->second = {int(i), distance, -1};
+        cells.try_emplace(grid.key(points[i], group_of(groups, i)), Cell{int(i), distance});
+    if (!added && distance < cell->second.distance) cell->second = {int(i), distance};
   }
   result.kept.reserve(cells.size());
   for (const auto& [key, cell] : cells) result.kept.push_back(cell.point);

@@ -202,7 +202,6 @@ std::vector<double> Evaluator::distances_to_shape(const std::vector<Vec3>& queri
   return impl_->distance(queries);
 }
 
-
 EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
                     const EvalOptions& options) {
   return Evaluator(shape, options)(medial);
