@@ -226,10 +226,11 @@ def read_mesh(path):
     return surface.points, surface.faces
 
 
-def skeletonize(args, shape, out_ply, spheres, memory=False, extra=()):
-    """Runs `vmas skeletonize --json` (with the options `extra`), reads its summary and checks
-    the medial mesh it wrote; memory: also the peak RSS of the run (peak_rss_kb, see run())."""
-    command = [args.vmas, "skeletonize", shape, "-o", out_ply, "--spheres", str(spheres),
+def skeletonize(args, shape, out_ply, spheres, memory=False, extra=(), binary=None):
+    """Runs `vmas skeletonize --json` (with the options `extra`; `binary`: another vmas than
+    --vmas), reads its summary and checks the medial mesh it wrote; memory: also the peak RSS of
+    the run (peak_rss_kb, see run())."""
+    command = [binary or args.vmas, "skeletonize", shape, "-o", out_ply, "--spheres", str(spheres),
                *extra, "--json"]
     if args.threads:
         command += ["--threads", str(args.threads)]

@@ -2,7 +2,6 @@
 scans and the scaling, each walking its models and inputs, running vmas on each and storing the
 rows in the results (saved as they come)."""
 
-import argparse
 import math
 import os
 
@@ -244,20 +243,18 @@ def scan_inputs(args, work):
              if name in SCAN_RECONSTRUCTIONS else None) for name, path in scans]
 
 
-def run_scan(args, binary, tag, path, work, reconstruction, log):
-    """One binary's run on a scan: its summary, time and peak memory, and its ε against the
-    points it kept (labels ≥ 0: the data as vmas used it; the points it dropped are counted)
-    and against the reconstruction when there is one."""
+def run_scan(args, binary, tag, path, points, work, reconstruction, log):
+    """One binary's run on a scan (`points`: as stored): its summary, time and peak memory, and
+    its ε against the points it kept (labels ≥ 0: the data as vmas used it; the points it dropped
+    are counted) and against the reconstruction when there is one."""
     name = os.path.basename(path)
     ply = os.path.join(work, f"{name}.{tag}.ply")
     labels = os.path.join(work, f"{name}.{tag}.labels")
-    run_args = argparse.Namespace(**{**vars(args), "vmas": binary})
     log(f"[scans] {name}: {tag} skeletonize")
-    entry = skeletonize(run_args, path, ply, SCAN_SPHERES, memory=True,
-                        extra=("--labels", labels))
+    entry = skeletonize(args, path, ply, SCAN_SPHERES, memory=True, extra=("--labels", labels),
+                        binary=binary)
     if entry.get("error"):
         return entry
-    points = np.asarray(running.vmas.read(path).points)
     kept = np.loadtxt(labels, dtype=np.int64, ndmin=1) >= 0
     entry["dropped_points"] = int(np.count_nonzero(~kept))
     kept_xyz = os.path.join(work, f"{name}.{tag}.kept.xyz")
@@ -276,9 +273,10 @@ def scans(args, results, save, log):
     for name, path, reconstruction in scan_inputs(args, work):
         row = {"scan": name, "input": path, "reconstruction": reconstruction}
         results["scans"].append(row)
-        row["ours"] = run_scan(args, args.vmas, "ours", path, work, reconstruction, log)
-        if args.base_vmas:
-            row["base"] = run_scan(args, args.base_vmas, "base", path, work, reconstruction, log)
+        points = np.asarray(running.vmas.read(path).points)
+        for tag, binary in (("ours", args.vmas), ("base", args.base_vmas)):
+            if binary:
+                row[tag] = run_scan(args, binary, tag, path, points, work, reconstruction, log)
         save()
 
 
