@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "denoise.hpp"
 #include "disjoint_sets.hpp"
@@ -80,14 +81,9 @@ StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
     return static_cast<double>(piece_weight[pieces.find(i)]) <=
            kMaxClusterShare * static_cast<double>(total);
   };
-  std::vector<Vec3> object_points;
-  std::vector<int> object_index;
-  for (int i = 0; i < count; ++i)
-    if (!small(i)) {
-      object_points.push_back(points[i]);
-      object_index.push_back(i);
-    }
-  if (object_points.empty() || object_points.size() == points.size()) return split;
+  std::size_t small_points = 0;
+  for (int i = 0; i < count; ++i) small_points += small(i);
+  if (small_points == 0 || small_points == points.size()) return split;
 
   // A small piece whose points each have their 16 nearest among themselves can still lie within
   // reach of the object: the object's nearest point to each of its points decides. Within a
@@ -96,15 +92,32 @@ StrayClusterSplit without_stray_clusters(const std::vector<Vec3>& points,
   // piece no farther from the object than its own size is a part of the surface seen across a
   // gap (a single range scan's patch behind an occlusion edge), not a cluster apart from it.
   const double noise_reach = kNoiseReach * (noise >= 0.0 ? noise : estimate_noise(points).sigma);
+  // The object's nearest point to a point: the first of the object in its row (the row holds
+  // every point nearer than that), else from a tree over the object, built when first needed.
+  std::optional<KdTree> object;
+  std::vector<int> object_index;
+  const auto nearest_of_object = [&](int i) {
+    for (int c = 1; c < rows.width; ++c)
+      if (!small(rows.row(i)[c])) return rows.row(i)[c];
+    if (!object) {
+      std::vector<Vec3> object_points;
+      for (int j = 0; j < count; ++j)
+        if (!small(j)) {
+          object_points.push_back(points[j]);
+          object_index.push_back(j);
+        }
+      object.emplace(object_points);
+    }
+    return object_index[object->nearest(points[i])];
+  };
   std::vector<char> stray(count, 0);
   std::vector<double> gap_to_object(count, std::numeric_limits<double>::infinity());
   std::vector<Box> extent(count);
   for (int i = 0; i < count; ++i) stray[pieces.find(i)] = small(i);
-  const KdTree object(object_points);
   for (int i = 0; i < count; ++i) {
     const int root = pieces.find(i);
     if (!stray[root]) continue;
-    const int nearest = object_index[object.nearest(points[i])];
+    const int nearest = nearest_of_object(i);
     const double gap = (points[i] - points[nearest]).norm();
     if (joined(i, nearest) || gap <= noise_reach) stray[root] = 0;
     gap_to_object[root] = std::min(gap_to_object[root], gap);
