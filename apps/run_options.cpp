@@ -105,6 +105,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
       ("estimate-normals", "estimate normals even if the file has them")
       ("keep-strays", "keep groups of points apart from the object (stray clusters of at most 1 % "
        "of the points, several spacings from the rest), which are otherwise removed")
+      ("no-mesh-sampling", "keep a coarse mesh's vertices as they are; by default a mesh whose "
+       "vertices are too sparse for the method (long, thin faces) has its faces sampled")
       ("denoise", po::value(&values.denoise)->default_value("auto"),
        "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
        "points (moving least squares) before the run; off: take the points as they are; or the "
@@ -156,6 +158,7 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);
   options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
   options.prepare.remove_stray_clusters = vm.count("keep-strays") == 0;
+  options.prepare.sample_coarse_meshes = vm.count("no-mesh-sampling") == 0;
   options.prepare.orient_normals = vm.count("orient-normals") > 0;
   options.validate();
 }

@@ -99,6 +99,12 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
     out << "stray clusters: removed " << strays["count"] << " group"
         << (strays["count"].get<int>() > 1 ? "s" : "") << " of " << strays["points"]
         << " points apart from the object (--keep-strays keeps them)\n";
+  const json& sampling = s["mesh_sampling"];
+  if (sampling["applied"].get<bool>())
+    out << "mesh: too coarse for the method (" << sampling["vertices_before"]
+        << " vertices); its faces were sampled to " << sampling["vertices"]
+        << " vertices (edges longer than " << sampling["edge_limit_percent"]
+        << " % of the diagonal split; --no-mesh-sampling keeps the mesh as it is)\n";
   if (s["outliers"].get<int>() > 0) out << "outliers: removed " << s["outliers"] << " points\n";
   if (noise["measured"].get<bool>())
     out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "

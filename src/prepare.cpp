@@ -10,6 +10,7 @@
 #include "cloud_graph.hpp"
 #include "denoise.hpp"
 #include "holes.hpp"
+#include "mesh_sampling.hpp"
 #include "normals.hpp"
 #include "principal_axes.hpp"
 #include "stopwatch.hpp"
@@ -343,6 +344,12 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   else {
     neighbours.reset();  // the smoothing moves the points
     smoothed_normals = smooth_noisy_cloud(surface, report, options);
+  }
+  if (surface.is_mesh() && options.sample_coarse_meshes) {
+    const MeshSampling sampling = sample_coarse_mesh(surface);
+    report.mesh_sampled_from = sampling.vertices_before;
+    if (sampling.vertices_before > 0) report.mesh_sampled_to = surface.points.size();
+    report.mesh_edge_limit = sampling.edge_limit;
   }
   // A mesh's normals, areas and quadrics come from its faces, its holes are its boundary edges
   // (MeshDefects).

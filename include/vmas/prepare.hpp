@@ -50,6 +50,7 @@ struct PrepareOptions {
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
   bool remove_stray_clusters = true;  // clouds, whatever denoise says (src/stray_clusters.hpp)
+  bool sample_coarse_meshes = true;   // meshes: faces of a coarse mesh sampled (src/mesh_sampling.hpp)
   bool estimate_normals = false;    // clouds: estimate even when the file has normals
   bool orient_normals = false;      // clouds: re-orient the surface's normals (signs not trusted)
   NormalOptions normals;
@@ -71,7 +72,8 @@ struct Frame {
 
 struct PrepareReport {
   Frame frame;                  // the working frame of the prepared points
-  std::vector<int> kept;        // input index of every prepared point, ascending
+  std::vector<int> kept;        // input index of every prepared point, ascending (a sampled
+                                // mesh's new vertices, which follow, have none)
   std::vector<int> stand_in;    // for every input point: the prepared point that stands for it
                                 // (itself, or its voxel's point when thinned; −1: dropped)
   std::size_t thinned_from = 0;  // points before thinning (0: not thinned)
@@ -86,6 +88,9 @@ struct PrepareReport {
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
   double mls_radius = 0.0;      // clouds: support of the MLS smoothing (0: not smoothed)
   int mesh_smoothing_steps = 0;  // meshes: Taubin steps along the faces (0: not smoothed)
+  std::size_t mesh_sampled_from = 0;  // a coarse mesh: its vertices before and after its faces
+  std::size_t mesh_sampled_to = 0;    // were sampled (0: not sampled; the new vertices follow
+  double mesh_edge_limit = 0.0;       // the old ones), and the length of edges it split (absolute)
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
   std::size_t normals_turned = 0;  // estimated normals turned over by turn_inside_out_normals
@@ -99,7 +104,8 @@ struct PrepareReport {
 // principal axes along x, y, z, the bounding-box diagonal kept, a power-of-two scale for data of
 // extreme size. So no stage loses precision to an offset (georeferenced scans), and the skeleton
 // does not depend on how the data was placed: the same shape rotated, moved or scaled gives the
-// same skeleton, rotated, moved and scaled with it. A clean mesh is left as it is; a noisy one has
+// same skeleton, rotated, moved and scaled with it. A clean mesh is left as it is unless it is too
+// coarse for the method (its faces are then sampled: sample_coarse_mesh); a noisy one has
 // its vertices smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when
 // too few points remain.
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);

@@ -38,6 +38,7 @@ def read_paper_table(path):
 STREAM_SAMPLES, STREAM_CLOUD_NOISE, STREAM_MESH_NOISE, STREAM_OUTLIERS = 0, 1, 2, 3
 STREAM_SPARSE, STREAM_TRANSFORMS = 4, 5  # Table 3 (transforms: σ slot = transform index)
 STREAM_SCALING = 4  # seed of a scaling cloud: [--seed, CRC-32 of the model, 4, 0, N]
+STREAM_CAD = 6  # a coarse part's clouds: σ slot = the cloud's index
 
 
 def seed_sequence(seed, model, stream, sigma=0.0):

@@ -9,10 +9,10 @@ import numpy as np
 
 import vmas_files
 
-from . import running
+from . import cad, running
 from .inputs import (SPARSE_MAX_SPHERES, STREAM_SAMPLES, TRANSFORMS, cap_cut, lid_bound,
-                     merged_range_scans, moved_copy, noise_inputs, scaling_cloud, seed_sequence,
-                     sparse_cloud)
+                     STREAM_CAD, merged_range_scans, moved_copy, noise_inputs, scaling_cloud,
+                     seed_sequence, sparse_cloud)
 from .plots import plot_scaling, render
 from .running import evaluate, read_mesh, skeletonize
 from .tables import KIND_LABEL, REFERENCES, entry_eps, noise_targets, row_eps
@@ -277,6 +277,45 @@ def scans(args, results, save, log):
         for tag, binary in (("ours", args.vmas), ("base", args.base_vmas)):
             if binary:
                 row[tag] = run_scan(args, binary, tag, path, points, work, reconstruction, log)
+        save()
+
+
+# Coarse meshes (issue 46, item 5): CAD-like parts made in code (vmasbench.cad), each run as a
+# mesh and as clouds of CAD_CLOUD_POINTS random points of its faces with their normals.
+CAD_SPHERES = 60
+CAD_CLOUD_POINTS = 10000
+CAD_CLOUDS = 3
+
+
+def coarse_meshes(args, results, save, log):
+    """Every part of vmasbench.cad as a mesh (with --vmas and, given --base-vmas, the previous
+    release) and as CAD_CLOUDS clouds (--vmas), ε against the mesh."""
+    work = os.path.join(args.out, "coarse")
+    os.makedirs(work, exist_ok=True)
+    for name, make in cad.PARTS.items():
+        points, faces = make()
+        mesh = os.path.join(work, name + ".off")
+        vmas_files.write_off(mesh, points, faces)
+        row = {"part": name, "vertices": len(points), "clouds": []}
+        results["coarse"].append(row)
+        runs = [(tag, binary, mesh) for tag, binary in (("ours", args.vmas), ("base", args.base_vmas))
+                if binary]
+        for k in range(CAD_CLOUDS):
+            samples, normals = vmas_files.sample_surface(
+                points, faces, CAD_CLOUD_POINTS, seed_sequence(args.seed, name, STREAM_CAD, k))
+            cloud = os.path.join(work, f"{name}.cloud{k}.xyz")
+            vmas_files.write_xyz(cloud, samples, normals)
+            runs.append((f"cloud{k}", args.vmas, cloud))
+        for tag, binary, shape in runs:
+            log(f"[coarse] {name}: {tag}")
+            ply = os.path.join(work, f"{name}.{tag}.ply")
+            entry = skeletonize(args, shape, ply, CAD_SPHERES, binary=binary)
+            if not entry.get("error"):
+                entry["eval"] = evaluate(args.vmas, mesh, ply, args.timeout)
+            if tag.startswith("cloud"):
+                row["clouds"].append(entry)
+            else:
+                row[tag] = entry
         save()
 
 
