@@ -345,7 +345,8 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     neighbours.reset();  // the smoothing moves the points
     smoothed_normals = smooth_noisy_cloud(surface, report, options);
   }
-  if (surface.is_mesh() && options.sample_coarse_meshes) {
+  // Only a clean mesh: a smoothed one's thin faces are the noise's, not an exporter's.
+  if (surface.is_mesh() && !report.smoothed() && options.sample_coarse_meshes) {
     const MeshSampling sampling = sample_coarse_mesh(surface);
     report.mesh_sampled_from = sampling.vertices_before;
     if (sampling.vertices_before > 0) report.mesh_sampled_to = surface.points.size();

@@ -50,7 +50,8 @@ struct PrepareOptions {
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
   bool remove_stray_clusters = true;  // clouds, whatever denoise says (src/stray_clusters.hpp)
-  bool sample_coarse_meshes = true;   // meshes: faces of a coarse mesh sampled (src/mesh_sampling.hpp)
+  bool sample_coarse_meshes = true;   // clean meshes: a coarse one's faces sampled
+                                      // (src/mesh_sampling.hpp)
   bool estimate_normals = false;    // clouds: estimate even when the file has normals
   bool orient_normals = false;      // clouds: re-orient the surface's normals (signs not trusted)
   NormalOptions normals;
