@@ -26,6 +26,8 @@ const char* kDescription =
     "of MEDIAL (.ply or .ma): the union of its spheres, of the round cones of its edges and of\n"
     "the slabs of its triangles, as in the paper's Table 1. Reported in % of the bounding-box\n"
     "diagonal of SHAPE. SHAPE or MEDIAL can be - (standard input, in --input-format).\n"
+    "Against a point cloud, also its openings (holes) and how far the reconstruction reaches\n"
+    "past them, and how far from it the points lie at most (coverage).\n"
     "\n"
     "options";
 
@@ -97,6 +99,8 @@ int eval_command(int argc, const char* const* argv) {
   with_input_file(medial_path, input_format,
                   [&](const std::string& path) { medial = read_medial_mesh(path); });
   const EvalResult result = evaluate(shape, medial, options);
+  // A cloud may be open: how the reconstruction covers it and meets its openings.
+  const OpeningReach openings = opening_reach(shape, result);
   std::vector<OutputFile> files;  // written together
   if (!errors_path.empty()) {
     std::string text;
@@ -142,6 +146,8 @@ int eval_command(int argc, const char* const* argv) {
         {"surface_to_medial_mean_percent", rounded(result.percent(result.surface_to_medial_mean))},
         {"medial_to_surface_max_percent", rounded(result.percent(result.medial_to_surface_max))},
         {"medial_to_surface_mean_percent", rounded(result.percent(result.medial_to_surface_mean))},
+        {"openings", openings.openings},
+        {"reach_percent", rounded(result.percent(openings.reach))},
         {"surface_samples", result.surface_sample_count},
         {"boundary_samples", result.boundary_sample_count},
         {"seconds", rounded(seconds)}};
@@ -159,8 +165,16 @@ int eval_command(int argc, const char* const* argv) {
             << result.surface_sample_count << " samples)\n"
             << "medial -> surface: max " << number(result.percent(result.medial_to_surface_max))
             << " %, mean " << number(result.percent(result.medial_to_surface_mean)) << " % ("
-            << result.boundary_sample_count << " samples)\n"
-            << "time: " << number(seconds) << " s"
+            << result.boundary_sample_count << " samples)\n";
+  if (!shape.is_mesh())
+    std::cout << "coverage: every point within " << number(result.percent(result.surface_to_medial_max))
+              << " % of the reconstruction; " << openings.openings << " opening"
+              << (openings.openings == 1 ? "" : "s")
+              << (openings.openings > 0 ? ", reached past by " +
+                                              number(result.percent(openings.reach)) + " %"
+                                        : std::string())
+              << "\n";
+  std::cout << "time: " << number(seconds) << " s"
             << (errors_path.empty() ? "" : "; wrote " + errors_path)
             << (medial_errors_path.empty() ? "" : "; wrote " + medial_errors_path) << "\n";
   return 0;

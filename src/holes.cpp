@@ -101,20 +101,22 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
     for (std::size_t j = 1; j < nearest.size(); ++j)
       if (std::sqrt(squared[j]) <= kRimLinkReach * reach[rim_points[i]]) rims.unite(i, nearest[j]);
   }
-  std::unordered_map<int, std::pair<int, Box>> by_root;
+  std::unordered_map<int, std::pair<std::vector<int>, Box>> by_root;
   for (int i = 0; i < rim_count; ++i) {
-    auto& [size, box] = by_root[rims.find(i)];
-    ++size;
+    auto& [members, box] = by_root[rims.find(i)];
+    members.push_back(rim_points[i]);
     box.extend(points[rim_points[i]]);
   }
   const double min_width = kMinHoleWidth * median(reach);
   std::vector<Hole> holes;
-  for (const auto& [root, rim_of] : by_root) {
+  for (auto& [root, rim_of] : by_root) {
     const double width = rim_of.second.diagonal().norm();
-    if (rim_of.first >= kMinRimPoints && width >= min_width) holes.push_back({rim_of.first, width});
+    const int size = static_cast<int>(rim_of.first.size());
+    if (size >= kMinRimPoints && width >= min_width)
+      holes.push_back({size, width, std::move(rim_of.first)});
   }
   std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) {
-    return a.width != b.width ? a.width > b.width : a.rim_points > b.rim_points;
+    return a.width != b.width ? a.width > b.width : a.rim < b.rim;
   });
   return holes;
 }

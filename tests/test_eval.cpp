@@ -691,5 +691,38 @@ TEST(EvalBounds, PointSpheresAndRepeatedFacesAreMeasuredAsWhatTheyAre) {
   EXPECT_EQ(a.medial_to_surface_mean, b.medial_to_surface_mean);
 }
 
+// A ball's cloud with its top cut off (z > 0.5): one opening, whose rim plane is z = 0.5. The
+// unit ball reaches 0.5 past it over the opening; a ball of radius 0.5 reaches it, no farther;
+// the whole ball's cloud has no opening.
+TEST(Openings, ReachPastTheRimPlaneOfACutBall) {
+  const test::Sample ball = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 5);
+  SurfaceInput cut;
+  for (std::size_t i = 0; i < ball.points.size(); ++i)
+    if (ball.points[i].z() <= 0.5) {
+      cut.points.push_back(ball.points[i]);
+      cut.normals.push_back(ball.normals[i]);
+    }
+  MedialMesh unit, half;
+  unit.spheres = {{Vec3::Zero(), 1.0}};
+  half.spheres = {{Vec3::Zero(), 0.5}};
+  const EvalResult unit_fit = evaluate(cut, unit);
+  const OpeningReach unit_reach = opening_reach(cut, unit_fit);
+  EXPECT_EQ(unit_reach.openings, 1);
+  const double spacing = EvalOptions{}.boundary_spacing * unit_fit.diagonal;
+  EXPECT_NEAR(unit_reach.reach, 0.5, spacing);
+  const OpeningReach half_reach = opening_reach(cut, evaluate(cut, half));
+  EXPECT_EQ(half_reach.openings, 1);
+  EXPECT_LT(half_reach.reach, spacing);
+  // Whole, or as a mesh: nothing to reach past.
+  SurfaceInput whole;
+  whole.points = ball.points;
+  whole.normals = ball.normals;
+  EXPECT_EQ(opening_reach(whole, evaluate(whole, unit)).openings, 0);
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
+  const OpeningReach of_mesh = opening_reach(mesh, evaluate(mesh, unit));
+  EXPECT_EQ(of_mesh.openings, 0);
+  EXPECT_EQ(of_mesh.reach, 0.0);
+}
+
 }  // namespace
 }  // namespace vmas

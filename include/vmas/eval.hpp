@@ -93,6 +93,22 @@ class Evaluator {
   std::unique_ptr<Impl> impl_;
 };
 
+// How a reconstruction meets the openings of a cloud (a scan's cut, the side it stood on). Its
+// two-sided error cannot be the measure there: a union of spheres is a solid, whose surface
+// across an opening lies about the opening's radius from any data. What can be asked is that it
+// covers the data (EvalResult::surface_to_medial_max) and does not bulge out through the opening.
+struct OpeningReach {
+  int openings = 0;    // holes of the cloud, as vmas skeletonize finds them (prepared by default)
+  double reach = 0.0;  // absolute: the farthest the reconstruction's boundary samples over an
+                       // opening lie past the plane of its rim (0 when none does)
+};
+
+// The openings of `cloud` (a point cloud: none for a mesh) and how far `evaluated`'s uniform
+// boundary samples (evaluate() with maxima_only off) reach past them. An opening's plane is
+// fitted to its rim points; its outside is the side holding fewer of the cloud's points; a
+// sample is over the opening when it projects onto the plane within the rim's radius.
+OpeningReach opening_reach(const SurfaceInput& cloud, const EvalResult& evaluated);
+
 // Throws InvalidInput when the shape has no point or a face index out of range, or when the
 // medial mesh is empty, has an index out of range or repeated within an element, or a radius
 // that is negative or not finite.

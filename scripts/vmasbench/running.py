@@ -188,6 +188,9 @@ def parse_eval(stdout):
             _, v = _find_number(data, [rf"(.*\.)?{side}_{stat}_percent", rf"{side}\.{stat}_percent"])
             if v is not None:
                 out[f"{side}_{stat}_percent"] = v
+    for key in ("openings", "reach_percent"):  # a point cloud's openings (docs/json.md)
+        if isinstance(data.get(key), (int, float)):
+            out[key] = data[key]
     return out
 
 
