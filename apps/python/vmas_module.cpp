@@ -9,6 +9,7 @@
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -110,26 +111,116 @@ SurfaceInput surface_of(const py::handle& points, const py::handle& normals,
 
 // --- options --------------------------------------------------------------------------------
 
-// The keyword arguments as the CLI's flags (lambda_ or "lambda" -> --lambda; True -> a flag),
-// parsed by the CLI's own parser: the same names, defaults, checks and messages.
-Options options_of(const py::dict& keywords) {
-  std::vector<std::string> words = {"vmas"};
-  for (const auto& [key, value] : keywords) {
-    std::string name = py::str(key);
-    if (!name.empty() && name.back() == '_') name.pop_back();  // lambda_: a Python keyword
-    for (char& c : name)
-      if (c == '_') c = '-';
-    if (value.is_none()) continue;
-    if (py::isinstance<py::bool_>(value)) {
-      if (value.cast<bool>()) words.push_back("--" + name);
-      continue;
+// The Python spelling of a CLI flag: '_' for '-', and lambda_ (lambda is a Python keyword).
+std::string keyword_of(std::string flag) {
+  std::replace(flag.begin(), flag.end(), '-', '_');
+  return flag == "lambda" ? flag + "_" : flag;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
     }
-    words.push_back("--" + name);
-    words.push_back(py::str(value));
   }
+  return row[b.size()];
+}
+
+// What a keyword may hold, by the CLI option it sets.
+enum class Kind { Flag, Integer, Real, Denoise };
+
+Kind kind_of(const po::option_description& option) {
+  const po::value_semantic* semantic = option.semantic().get();
+  if (semantic->max_tokens() == 0) return Kind::Flag;
+  if (dynamic_cast<const po::typed_value<int>*>(semantic)) return Kind::Integer;
+  if (dynamic_cast<const po::typed_value<double>*>(semantic)) return Kind::Real;
+  return Kind::Denoise;  // the one option typed as text
+}
+
+bool is_boolean(const py::handle& value) {
+  return py::isinstance<py::bool_>(value) ||
+         py::isinstance(value, py::module_::import("numpy").attr("bool_"));
+}
+
+bool is_integer(const py::handle& value) {
+  return !is_boolean(value) && (py::isinstance<py::int_>(value) ||
+                                py::isinstance(value, py::module_::import("numpy").attr("integer")));
+}
+
+bool is_real(const py::handle& value) {
+  return is_integer(value) || py::isinstance<py::float_>(value) ||
+         py::isinstance(value, py::module_::import("numpy").attr("floating"));
+}
+
+std::string type_name(const py::handle& value) {
+  return py::str(py::type::handle_of(value).attr("__name__"));
+}
+
+// The CLI words of one keyword (none for a flag set to False), its type checked first, as
+// Python checks an argument: a TypeError naming the keyword. `caller` names the function.
+std::vector<std::string> words_of(const std::string& caller, const std::string& keyword,
+                                  const py::handle& value, const po::options_description& visible) {
+  std::string flag = keyword;
+  if (flag == "lambda_") flag.pop_back();
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  const po::option_description* option = visible.find_nothrow(flag, false);
+  if (!option || option->long_name() != flag) {
+    std::string closest;
+    std::size_t best = 3;  // farther names are no likely typo
+    for (const auto& known : visible.options()) {
+      const std::string candidate = keyword_of(known->long_name());
+      const std::size_t distance = edit_distance(keyword, candidate);
+      if (distance < best) best = distance, closest = candidate;
+    }
+    throw py::type_error(caller + "() got an unexpected keyword argument '" + keyword + "'" +
+                         (closest.empty() ? "" : " (did you mean '" + closest + "'?)"));
+  }
+  const std::string dashed = "--" + flag;
+  const auto wrong = [&](const std::string& expected) {
+    return py::type_error(keyword + " must be " + expected + " (got " + type_name(value) + " " +
+                          std::string(py::repr(value)) + ")");
+  };
+  switch (kind_of(*option)) {
+    case Kind::Flag:
+      if (!is_boolean(value)) throw wrong("True or False");
+      return value.cast<bool>() ? std::vector<std::string>{dashed} : std::vector<std::string>{};
+    case Kind::Integer:
+      if (!is_integer(value)) throw wrong("an integer");
+      return {dashed, py::str(py::int_(py::reinterpret_borrow<py::object>(value)))};
+    case Kind::Real:
+      if (!is_real(value)) throw wrong("a number");
+      return {dashed, py::repr(py::float_(py::reinterpret_borrow<py::object>(value)))};
+    case Kind::Denoise:
+      // denoise=False: off; True: the default, auto.
+      if (is_boolean(value)) return {dashed, value.cast<bool>() ? "auto" : "off"};
+      if (!py::isinstance<py::str>(value) && !is_real(value))
+        throw wrong("'auto', 'off', a number or a percentage such as '0.5%'");
+      return {dashed, is_real(value) ? std::string(py::repr(py::float_(
+                                           py::reinterpret_borrow<py::object>(value))))
+                                     : std::string(py::str(value))};
+  }
+  return {};
+}
+
+// The keyword arguments as the CLI's flags (lambda_ -> --lambda; True -> a flag), each checked
+// for its type, then parsed by the CLI's own parser: the same names, defaults, range checks and
+// messages.
+Options options_of(const std::string& caller, const py::dict& keywords) {
   cli::RunOptionValues values;
   po::options_description visible;
   cli::add_run_options(visible, values);
+  std::vector<std::string> words = {"vmas"};
+  for (const auto& [key, value] : keywords) {
+    if (value.is_none()) continue;
+    for (std::string& word : words_of(caller, py::str(key), value, visible))
+      words.push_back(std::move(word));
+  }
   std::vector<const char*> argv;
   for (const std::string& word : words) argv.push_back(word.c_str());
   try {
@@ -154,9 +245,9 @@ struct Call {
   SurfaceInput surface;
   Options options;
 };
-Call call_of(const py::object& points, const py::object& normals, const py::object& faces,
-             const py::object& spheres, const py::object& error, int threads,
-             const py::kwargs& options) {
+Call call_of(const std::string& caller, const py::object& points, const py::object& normals,
+             const py::object& faces, const py::object& spheres, const py::object& error,
+             const py::object& threads, const py::kwargs& options) {
   py::dict keywords;
   for (const auto& [key, value] : options) keywords[key] = value;
   keywords["spheres"] = spheres;
@@ -164,7 +255,7 @@ Call call_of(const py::object& points, const py::object& normals, const py::obje
   keywords["threads"] = threads;
   const bool given = py::isinstance<SurfaceInput>(points) && normals.is_none() && faces.is_none();
   return {given ? points.cast<SurfaceInput>() : surface_of(points, normals, faces),
-          options_of(keywords)};
+          options_of(caller, keywords)};
 }
 
 // --- results --------------------------------------------------------------------------------
@@ -284,15 +375,48 @@ PythonResult run_skeletonize(SurfaceInput surface, const Options& options,
 }
 
 // The stateful API: a Skeletonizer on a prepared shape (as vmas.skeletonize prepares it), its
-// results in the input's coordinates.
-struct PythonSkeletonizer {
-  PythonSkeletonizer(SurfaceInput surface, const Options& options) {
+// results in the input's coordinates and its labels by input row. Every call runs with the
+// object's thread count, one at a time: a second Python thread waits for the first (a
+// Skeletonizer is not safe to use from two threads at once).
+class PythonSkeletonizer {
+ public:
+  PythonSkeletonizer(SurfaceInput surface, const Options& options) : threads_(options.threads) {
+    input_points_ = surface.points.size();
     PreparedShape prepared = prepare_shape(std::move(surface), options);
-    frame = prepared.result.prepare.frame;
-    skeletonizer = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
+    frame_ = prepared.result.prepare.frame;
+    input_row_ = std::move(prepared.result.clean.kept);
+    stand_in_ = std::move(prepared.result.prepare.stand_in);
+    skeletonizer_ = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
   }
-  Frame frame;
-  std::unique_ptr<Skeletonizer> skeletonizer;
+
+  // `work(skeletonizer)` with the GIL released (taken first, so that a thread waiting for the
+  // lock never holds the GIL that the one working may need for its progress callback).
+  template <class Work>
+  auto locked(Work&& work) {
+    py::gil_scoped_release released;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ThreadCount threads(threads_);
+    return work(*skeletonizer_);
+  }
+
+  // The sphere of every input row, −1 for a row that cleaning or preparation dropped.
+  std::vector<int> input_labels(const std::vector<int>& labels) const {
+    std::vector<int> by_row(input_points_, -1);
+    for (std::size_t i = 0; i < stand_in_.size(); ++i)
+      if (stand_in_[i] >= 0) by_row[input_row_[i]] = labels[stand_in_[i]];
+    return by_row;
+  }
+
+  const Frame& frame() const { return frame_; }
+
+ private:
+  int threads_;
+  Frame frame_;
+  std::size_t input_points_ = 0;
+  std::vector<int> input_row_;  // of every cleaned point
+  std::vector<int> stand_in_;   // of every cleaned point: its prepared point, or −1
+  std::mutex mutex_;
+  std::unique_ptr<Skeletonizer> skeletonizer_;
 };
 
 }  // namespace
@@ -415,10 +539,13 @@ PYBIND11_MODULE(vmas, m) {
   using PySk = PythonSkeletonizer;
   py::class_<PySk>(m, "Skeletonizer",
                    "The optimisation, step by step, editable between steps (the paper's dynamic "
-                   "editing). Vertex indices are those of the prepared shape (`points`).")
+                   "editing). Vertex indices are those of the prepared shape (`points`, in the "
+                   "input's coordinates); `labels` are by input row. Calls from several threads "
+                   "take turns.")
       .def(py::init([](py::object points, py::object normals, py::object faces, py::object spheres,
-                       py::object error, int threads, py::kwargs options) {
-             Call call = call_of(points, normals, faces, spheres, error, threads, options);
+                       py::object error, py::object threads, py::kwargs options) {
+             Call call = call_of("Skeletonizer", points, normals, faces, spheres, error, threads,
+                                 options);
              py::gil_scoped_release released;
              return std::make_unique<PySk>(std::move(call.surface), call.options);
            }),
@@ -428,20 +555,12 @@ PYBIND11_MODULE(vmas, m) {
            "Prepares the shape as vmas.skeletonize does (same arguments and options) and starts "
            "from one sphere.")
       .def(
-          "step",
-          [](PySk& p) {
-            py::gil_scoped_release released;
-            return p.skeletonizer->step();
-          },
+          "step", [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.step(); }); },
           "One partition + update + projection step; returns the total error.")
       .def(
           "advance",
           [](PySk& p) {
-            Turn turn;
-            {
-              py::gil_scoped_release released;
-              turn = p.skeletonizer->advance();
-            }
+            const Turn turn = p.locked([](Skeletonizer& s) { return s.advance(); });
             py::dict d;
             d["error"] = turn.error;
             d["converged"] = turn.converged;
@@ -454,11 +573,8 @@ PYBIND11_MODULE(vmas, m) {
           "run",
           [](PySk& p, py::object progress) {
             PythonProgress watch{progress};
-            RunSummary summary;
-            {
-              py::gil_scoped_release released;
-              summary = p.skeletonizer->run(std::ref(watch));
-            }
+            const RunSummary summary =
+                p.locked([&](Skeletonizer& s) { return s.run(std::ref(watch)); });
             if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
             return summary_dict(summary);
           },
@@ -466,62 +582,75 @@ PYBIND11_MODULE(vmas, m) {
           "Turns until done, then the final refits (without the worst-case refinement of "
           "vmas.skeletonize); returns the summary (dict).")
       .def(
-          "split",
-          [](PySk& p) {
-            py::gil_scoped_release released;
-            return p.skeletonizer->split();
-          },
+          "split", [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.split(); }); },
           "One split round; returns the spheres added.")
       .def(
           "add_sphere",
           [](PySk& p, int vertex) {
-            py::gil_scoped_release released;
-            return p.skeletonizer->add_sphere_at(vertex);
+            return p.locked([&](Skeletonizer& s) { return s.add_sphere_at(vertex); });
           },
           py::arg("vertex"), "A sphere at the shrinking ball of `vertex`; returns its id.")
       .def(
           "remove_sphere",
-          [](PySk& p, int id) {
-            py::gil_scoped_release released;
-            p.skeletonizer->remove_sphere(id);
-          },
+          [](PySk& p, int id) { p.locked([&](Skeletonizer& s) { s.remove_sphere(id); }); },
           py::arg("id"), "Removes sphere `id` (later ids shift down by one; keys stay).")
       .def(
-          "freeze", [](PySk& p, int id, bool frozen) { p.skeletonizer->freeze(id, frozen); },
+          "freeze",
+          [](PySk& p, int id, bool frozen) {
+            p.locked([&](Skeletonizer& s) { s.freeze(id, frozen); });
+          },
           py::arg("id"), py::arg("frozen") = true,
           "A frozen sphere is neither moved, split nor removed by the optimisation.")
       .def(
           "medial_mesh",
-          [](const PySk& p) { return p.frame.to_input(p.skeletonizer->medial_mesh()); },
+          [](PySk& p) {
+            return p.locked([&](Skeletonizer& s) { return p.frame().to_input(s.medial_mesh()); });
+          },
           "The medial mesh now, in the input's coordinates.")
       .def_property_readonly(
-          "points", [](const PySk& p) { return matrix(p.skeletonizer->shape().points); },
-          "(V, 3): the prepared shape's vertices (working frame)")
+          "points",
+          [](PySk& p) {
+            std::vector<Vec3> points = p.locked([](Skeletonizer& s) { return s.shape().points; });
+            for (Vec3& point : points) point = p.frame().to_input(point);
+            return matrix(points);
+          },
+          "(V, 3): the prepared shape's vertices, in the input's coordinates")
       .def_property_readonly(
-          "labels",
-          [](const PySk& p) {
-            const std::vector<int>& labels = p.skeletonizer->labels();
+          "vertex_labels",
+          [](PySk& p) {
+            const std::vector<int> labels = p.locked([](Skeletonizer& s) { return s.labels(); });
             return py::array_t<int>(labels.size(), labels.data());
           },
-          "(V,) int32: the sphere of every prepared vertex")
+          "(V,) int32: the sphere of every prepared vertex (of `points`)")
+      .def_property_readonly(
+          "labels",
+          [](PySk& p) {
+            const std::vector<int> labels = p.input_labels(
+                p.locked([](Skeletonizer& s) { return s.labels(); }));
+            return py::array_t<int>(labels.size(), labels.data());
+          },
+          "(N,) int32: the sphere of every input row, -1 for a row dropped (as Result.labels)")
       .def_property_readonly(
           "keys",
-          [](const PySk& p) {
-            const auto& keys = p.skeletonizer->keys();
+          [](PySk& p) {
+            const std::vector<std::uint64_t> keys =
+                p.locked([](Skeletonizer& s) { return s.keys(); });
             return py::array_t<std::uint64_t>(keys.size(), keys.data());
           },
           "(M,) uint64: a key per sphere that stays with it for its life")
-      .def_property_readonly("total_error",
-                             [](const PySk& p) { return p.skeletonizer->total_error(); })
-      .def_property_readonly("spheres", [](const PySk& p) {
-        return static_cast<int>(p.skeletonizer->spheres().size());
+      .def_property_readonly(
+          "total_error",
+          [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.total_error(); }); })
+      .def_property_readonly("spheres", [](PySk& p) {
+        return p.locked([](Skeletonizer& s) { return static_cast<int>(s.spheres().size()); });
       });
 
   m.def(
       "skeletonize",
       [](py::object points, py::object normals, py::object faces, py::object spheres,
-         py::object error, int threads, py::object progress, py::kwargs options) {
-        Call call = call_of(points, normals, faces, spheres, error, threads, options);
+         py::object error, py::object threads, py::object progress, py::kwargs options) {
+        Call call = call_of("skeletonize", points, normals, faces, spheres, error, threads,
+                            options);
         return run_skeletonize(std::move(call.surface), call.options, progress);
       },
       py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),

@@ -138,6 +138,20 @@ struct BestStart {
 BestStart best_start(const PreparedShape& prepared, const Options& options,
                      const ProgressCallback& progress = {});
 
+// The OpenMP thread count of the calling thread while it lives (0: left as it is; never more than
+// the cores: more only wait for each other). OpenMP keeps the count per thread, so calls from
+// other threads are not affected.
+class ThreadCount {
+ public:
+  explicit ThreadCount(int threads);
+  ~ThreadCount();
+  ThreadCount(const ThreadCount&) = delete;
+  ThreadCount& operator=(const ThreadCount&) = delete;
+
+ private:
+  int previous_ = 0;
+};
+
 // Skeletonizes `input` (a mesh, or a cloud with or without normals; NaN points allowed), taken
 // by value: std::move a surface you no longer need to spare a copy of a big scan.
 // `progress` is called once while preparing and after every step and final refit, from the

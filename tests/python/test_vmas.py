@@ -101,8 +101,6 @@ def test_options_are_the_clis_with_its_messages():
         vmas.skeletonize(points, spheres=3, lambda_=-1)
     with pytest.raises(ValueError, match="lambda"):
         vmas.skeletonize(points, spheres=3, **{"lambda": -1})
-    with pytest.raises(ValueError, match="bogus"):
-        vmas.skeletonize(points, spheres=3, bogus=1)
     with pytest.raises(ValueError, match="error cannot go with spheres"):
         vmas.skeletonize(points, spheres=3, error=0.01)
     with pytest.raises(ValueError, match="denoise"):
@@ -216,7 +214,8 @@ def test_the_editing_loop_of_the_paper():
     assert set(turn) == {"error", "converged", "split", "done"}
     mesh = skeletonizer.medial_mesh()
     assert mesh.centers.shape[0] == skeletonizer.spheres
-    assert skeletonizer.labels.shape == (skeletonizer.points.shape[0],)
+    assert skeletonizer.vertex_labels.shape == (skeletonizer.points.shape[0],)
+    assert skeletonizer.labels.shape == (len(points),)  # by input row
     with pytest.raises(vmas.InvalidArgument):
         skeletonizer.remove_sphere(99)
     with pytest.raises(vmas.InvalidArgument):
@@ -235,3 +234,95 @@ def test_open3d_arrays_go_in_directly():
     result = vmas.skeletonize(np.asarray(ball.vertices), faces=np.asarray(ball.triangles),
                               spheres=1)
     assert np.linalg.norm(result.centers[0]) < 0.05 and abs(result.radii[0] - 2.0) < 0.05
+
+
+def test_keywords_are_checked_as_python_checks_arguments():
+    """One test per kind of option: unknown, flag, integer, number, denoise."""
+    points = sphere_points(800)
+    with pytest.raises(TypeError, match=r"skeletonize\(\) got an unexpected keyword argument "
+                                        r"'lamda' \(did you mean 'lambda_'\?\)"):
+        vmas.skeletonize(points, spheres=3, lamda=0.1)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'bogus'"):
+        vmas.skeletonize(points, spheres=3, bogus=1)
+    with pytest.raises(TypeError, match=r"Skeletonizer\(\) got an unexpected keyword argument"):
+        vmas.Skeletonizer(points, spheres=3, bogus=1)
+    # Flags: Python's and NumPy's booleans, nothing else.
+    for wrong in (0, 1, "false", "true", 1.0):
+        with pytest.raises(TypeError, match="no_projection must be True or False"):
+            vmas.skeletonize(points, spheres=3, no_projection=wrong)
+    off = vmas.skeletonize(points, spheres=3, no_projection=np.False_, threads=1)
+    default = vmas.skeletonize(points, spheres=3, threads=1)
+    np.testing.assert_array_equal(off.centers, default.centers)
+    # Integers: no bool, no float.
+    for wrong in (True, 3.0, "3"):
+        with pytest.raises(TypeError, match="spheres must be an integer"):
+            vmas.skeletonize(points, spheres=wrong)
+    with pytest.raises(TypeError, match="threads must be an integer"):
+        vmas.skeletonize(points, spheres=3, threads=True)
+    assert vmas.skeletonize(points, spheres=np.int64(3)).centers.shape == (3, 3)
+    # Numbers: int, float, NumPy; no bool, no text.
+    for wrong in (True, "0.1"):
+        with pytest.raises(TypeError, match="lambda_ must be a number"):
+            vmas.skeletonize(points, spheres=3, lambda_=wrong)
+    a = vmas.skeletonize(points, spheres=3, lambda_=np.float32(0.25), threads=1)
+    b = vmas.skeletonize(points, spheres=3, lambda_=0.25, threads=1)
+    np.testing.assert_array_equal(a.centers, b.centers)
+    # denoise: False is off, True the default.
+    noisy = sphere_points(3000) + np.random.default_rng(4).normal(scale=0.05, size=(3000, 3))
+    as_they_are = vmas.skeletonize(noisy, spheres=3, denoise=False).summary["noise"]
+    assert not as_they_are["measured"] and not as_they_are["smoothed"]
+    assert vmas.skeletonize(noisy, spheres=3, denoise=True).summary["noise"]["smoothed"]
+    with pytest.raises(TypeError, match="denoise must be"):
+        vmas.skeletonize(noisy, spheres=3, denoise=[0.01])
+
+
+def test_a_skeletonizer_used_from_two_threads_takes_turns():
+    """Edits from one thread while another runs the optimisation: no crash, a consistent
+    state (the paper's workflow from a notebook)."""
+    import threading
+    points, normals = capsule_points(4000)
+    skeletonizer = vmas.Skeletonizer(points, normals, spheres=30, threads=1)
+    failures = []
+    stop = time.monotonic() + 30.0  # the issue's stress: 30 s
+
+    def optimise():
+        try:
+            while time.monotonic() < stop:
+                skeletonizer.step()
+        except Exception as e:  # noqa: BLE001 - any failure is the test's
+            failures.append(e)
+
+    def edit():
+        rng = np.random.default_rng(3)
+        try:
+            while time.monotonic() < stop:
+                skeletonizer.add_sphere(int(rng.integers(len(skeletonizer.points))))
+                if skeletonizer.spheres > 2:
+                    skeletonizer.remove_sphere(int(rng.integers(skeletonizer.spheres)))
+                mesh = skeletonizer.medial_mesh()
+                assert mesh.centers.shape[0] == len(skeletonizer.keys)
+        except Exception as e:  # noqa: BLE001
+            failures.append(e)
+
+    threads = [threading.Thread(target=optimise), threading.Thread(target=edit)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failures, failures
+
+
+def test_a_skeletonizer_speaks_the_inputs_frame_and_rows():
+    points, normals = capsule_points(3000)
+    moved = points * 10.0 + np.array([100.0, -50.0, 3.0])
+    dropped = moved.copy()
+    dropped[7] = np.nan
+    skeletonizer = vmas.Skeletonizer(dropped, normals, spheres=4, threads=1)
+    skeletonizer.run()
+    # The prepared vertices are the input's points, where the input put them.
+    kept = np.delete(moved, 7, axis=0)
+    assert skeletonizer.points.shape == kept.shape
+    np.testing.assert_allclose(np.sort(skeletonizer.points, axis=0), np.sort(kept, axis=0),
+                               atol=1e-9)
+    labels = skeletonizer.labels
+    assert labels.shape == (len(points),) and labels[7] == -1 and (np.delete(labels, 7) >= 0).all()
