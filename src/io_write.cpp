@@ -120,8 +120,31 @@ bool needs_double(const std::vector<Sphere>& spheres) {
 
 }  // namespace
 
+namespace {
+
+// What read_medial_mesh would refuse, and a negative radius, is not written.
+void check_writable(const std::string& path, const MedialMesh& mesh) {
+  const std::size_t count = mesh.spheres.size();
+  for (std::size_t i = 0; i < count; ++i)
+    if (!io_internal::in_range(mesh.spheres[i]) || mesh.spheres[i].radius < 0.0)
+      throw InvalidInput(path + ": sphere " + std::to_string(i) +
+                         " has a non-finite or out-of-range value, or a negative radius");
+  const auto check = [&](const int* indices, int size, const char* what, std::size_t element) {
+    for (int k = 0; k < size; ++k)
+      if (indices[k] < 0 || static_cast<std::size_t>(indices[k]) >= count)
+        throw InvalidInput(path + ": " + what + " " + std::to_string(element) + ": sphere index " +
+                           std::to_string(indices[k]) + " out of range (" +
+                           std::to_string(count) + " spheres)");
+  };
+  for (std::size_t e = 0; e < mesh.edges.size(); ++e) check(mesh.edges[e].data(), 2, "edge", e);
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) check(mesh.faces[f].data(), 3, "face", f);
+}
+
+}  // namespace
+
 std::string medial_mesh_file(const std::string& path, const MedialMesh& mesh) {
   check_medial_mesh_format(path);
+  check_writable(path, mesh);
   const std::string extension = io_internal::lower_extension(path);
   std::string out;
   if (extension == ".ply") {

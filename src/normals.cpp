@@ -305,6 +305,34 @@ void orient_smoothed_normals(const std::vector<Vec3>& points, std::vector<Vec3>&
       normals[i] = -normals[i];
 }
 
+double sign_disagreement(const std::vector<Vec3>& points, const std::vector<Vec3>& normals) {
+  constexpr int kNeighbours = 8;
+  constexpr double kAcrossTangent = 0.3;  // |n·d| / |d| above this: another sheet
+  constexpr int kProbes = 4000;           // points looked at, evenly through the cloud
+  const int count = static_cast<int>(points.size());
+  if (count <= kNeighbours || normals.size() != points.size()) return 0.0;
+  const KdTree tree(points);
+  const int stride = std::max(1, count / kProbes);
+  std::size_t pairs = 0, opposite = 0;
+#pragma omp parallel reduction(+ : pairs, opposite)
+  {
+    std::vector<int> row;
+    std::vector<double> squared;
+#pragma omp for schedule(static)
+    for (int i = 0; i < count; i += stride) {
+      tree.k_nearest(points[i], kNeighbours + 1, row, squared);
+      for (int j : row) {
+        if (j == i) continue;
+        const Vec3 offset = points[j] - points[i];
+        if (std::abs(normals[i].dot(offset)) > kAcrossTangent * offset.norm()) continue;
+        ++pairs;
+        opposite += normals[i].dot(normals[j]) < 0.0;
+      }
+    }
+  }
+  return pairs > 0 ? static_cast<double>(opposite) / static_cast<double>(pairs) : 0.0;
+}
+
 double outward_flux(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                     const std::vector<int>& subset) {
   const auto for_each_point = [&](const auto& visit) {

@@ -46,6 +46,12 @@ void orient_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals,
 // to turn anything. Throws as orient_normals.
 void orient_smoothed_normals(const std::vector<Vec3>& points, std::vector<Vec3>& normals, int k);
 
+// The share of neighbouring normals on one sheet (each point and its 8 nearest neighbours that lie
+// near its tangent plane: not across a thin part) that point opposite ways: near 0 for oriented
+// normals, whatever the shape (a fold sharper than a right angle is rare), near ½ for normals
+// of arbitrary sign (estimated elsewhere, oriented by no rule). 0 for fewer than 9 points.
+double sign_disagreement(const std::vector<Vec3>& points, const std::vector<Vec3>& normals);
+
 // How much unit normals point away from the points' centroid: Σ (p − c)·n / Σ |p − c| over the
 // points listed in `subset` (all when empty), in [−1, 1]. Near 1 for a roundish closed surface
 // with outward normals, near −1 with inward ones, near 0 for flat data or normals of random sign.

@@ -54,6 +54,9 @@ constexpr double kSmoothedSpacingInNoises = 0.7;
 constexpr std::size_t kMinPointsPerSphere = 50;
 // Least reach of balls past the bounding box of open data (relative to the diagonal).
 constexpr double kMinOpenMargin = 1e-3;
+// A file's normals whose neighbours on one sheet disagree this often have arbitrary signs: half
+// of random signs disagree, oriented normals almost never.
+constexpr double kMixedNormalSigns = 0.1;
 // Upper end of the shrinking-ball tolerance (ShrinkingBallOptions::validate takes < 0.1).
 constexpr double kMaxBallTolerance = 0.05;
 
@@ -310,7 +313,11 @@ void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOp
   } else {
     refit_given_normals(surface.points, surface.normals, options.normals.k,
                         std::move(smoothed_normals));
-    if (options.orient_normals) {
+    // Normals estimated elsewhere often come with arbitrary signs (PCA's): oriented then, and said.
+    // (Not on a smoothed cloud: its thin parts' sheets come close enough to read as one.)
+    if (!options.orient_normals && !report.smoothed())
+      report.normals_disagreement = sign_disagreement(surface.points, surface.normals);
+    if (options.orient_normals || report.normals_disagreement > kMixedNormalSigns) {
       orient_normals(surface.points, surface.normals, options.normals.k);
       report.normals_oriented = true;
     }

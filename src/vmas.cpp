@@ -192,7 +192,15 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
                              !options.prepare.estimate_normals && !options.prepare.orient_normals;
   result.prepare = prepare_surface(surface, options.prepare);
   result.seconds.prepare = result.prepare.seconds;
-  if (normals_given && outward_flux(surface.points, surface.normals) < kClearlyInward)
+  if (normals_given && result.prepare.normals_oriented) {
+    const int percent = static_cast<int>(std::round(100.0 * result.prepare.normals_disagreement));
+    result.warnings.push_back(
+        {"normals-reoriented",
+         "the file's normals had arbitrary signs (" + std::to_string(percent) +
+             " % of neighbouring ones pointed opposite ways, as normals estimated elsewhere do): "
+             "vmas oriented them outward (--orient-normals, options.prepare.orient_normals, always "
+             "does)"});
+  } else if (normals_given && outward_flux(surface.points, surface.normals) < kClearlyInward)
     result.warnings.push_back({"inward-normals",
                                "the file's normals point inward on the whole; --orient-normals "
                                "(options.prepare.orient_normals) re-orients them"});

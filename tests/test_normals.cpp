@@ -10,6 +10,7 @@
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
+#include "vmas/vmas.hpp"
 #include "vmas/kdtree.hpp"
 
 namespace vmas {
@@ -328,6 +329,46 @@ TEST(RefitGivenNormals, KeepsTheFileNormalWhereTheFitDisagrees) {
   refit_given_normals(sphere.points, normals, NormalOptions{}.k);
   EXPECT_EQ(normals[7], tangent);
   EXPECT_GT(normals[8].dot(sphere.normals[8]), 0.999);
+}
+
+}  // namespace
+}  // namespace vmas
+
+namespace vmas {
+namespace {
+
+// Normals of arbitrary sign (as estimated elsewhere) are found and oriented, with a warning;
+// oriented ones, across a thin part too, are left as they are.
+TEST(NormalsSigns, ArbitrarySignsAreFoundAndOrientedOrientedOnesKept) {
+  const test::Sample capsule = test::sample_capsule(0.2, 1.0, 6000, 4);
+  const test::Sample plate = test::sample_box(Vec3(1.0, 1.0, 0.02), 6000, 5);
+  EXPECT_LT(sign_disagreement(capsule.points, capsule.normals), 0.02);
+  EXPECT_LT(sign_disagreement(plate.points, plate.normals), 0.02);
+  SurfaceInput mixed;
+  mixed.points = capsule.points;
+  mixed.normals = capsule.normals;
+  std::mt19937 rng(6);
+  for (Vec3& n : mixed.normals)
+    if (rng() % 2) n = -n;
+  EXPECT_GT(sign_disagreement(mixed.points, mixed.normals), 0.3);
+  Options options;
+  options.run.target.spheres = 6;
+  const Result fixed = skeletonize(mixed, options);
+  EXPECT_TRUE(fixed.prepare.normals_oriented);
+  ASSERT_FALSE(fixed.warnings.empty());
+  EXPECT_EQ(fixed.warnings.front().code, "normals-reoriented");
+  SurfaceInput oriented;
+  oriented.points = capsule.points;
+  oriented.normals = capsule.normals;
+  const Result kept = skeletonize(oriented, options);
+  EXPECT_FALSE(kept.prepare.normals_oriented);
+  for (const Warning& w : kept.warnings) EXPECT_NE(w.code, "normals-reoriented");
+  // The oriented run is the same as with the option asked for.
+  options.prepare.orient_normals = true;
+  const Result asked = skeletonize(mixed, options);
+  ASSERT_EQ(asked.medial_mesh.spheres.size(), fixed.medial_mesh.spheres.size());
+  for (std::size_t i = 0; i < asked.medial_mesh.spheres.size(); ++i)
+    EXPECT_EQ(asked.medial_mesh.spheres[i].center, fixed.medial_mesh.spheres[i].center);
 }
 
 }  // namespace

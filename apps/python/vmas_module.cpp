@@ -9,6 +9,7 @@
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -98,6 +99,9 @@ SurfaceInput surface_of(const py::handle& points, const py::handle& normals,
   SurfaceInput surface;
   surface.points = rows_of(points, "points");
   if (surface.points.empty()) throw py::value_error("points is empty");
+  // NumPy marks a missing value with NaN or inf alike: both rows are dropped (label -1).
+  for (Vec3& p : surface.points)
+    if (p.array().isInf().any()) p = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   if (!normals.is_none()) {
     surface.normals = rows_of(normals, "normals");
     if (surface.normals.size() != surface.points.size())
@@ -105,8 +109,20 @@ SurfaceInput surface_of(const py::handle& points, const py::handle& normals,
                             std::to_string(surface.points.size()) + "), got " +
                             std::to_string(surface.normals.size()));
   }
-  if (!faces.is_none()) surface.faces = faces_of(faces);
+  if (!faces.is_none()) {
+    surface.faces = faces_of(faces);
+    for (const auto& face : surface.faces)
+      for (int index : face)
+        if (static_cast<std::size_t>(index) >= surface.points.size())
+          throw py::value_error("faces: index " + std::to_string(index) + " out of range (" +
+                                std::to_string(surface.points.size()) + " points)");
+  }
   return surface;
+}
+
+// A path as Python gives it: str, bytes or os.PathLike.
+std::string path_of(const py::handle& path) {
+  return py::str(py::module_::import("os").attr("fsdecode")(path));
 }
 
 // --- options --------------------------------------------------------------------------------
@@ -431,12 +447,17 @@ PYBIND11_MODULE(vmas, m) {
   m.attr("__version__") = version();
 
   // Errors: the CLI's messages, as Python exceptions.
+  // vmas.Error is the base of every one, each also the built-in a Python user would catch.
   static py::exception<Error> error(m, "Error");
-  static py::exception<InvalidInput> invalid_input(m, "InvalidInput", PyExc_ValueError);
-  static py::exception<InvalidOption> invalid_option(m, "InvalidOption", PyExc_ValueError);
-  static py::exception<InvalidArgument> invalid_argument(m, "InvalidArgument", PyExc_ValueError);
-  static py::exception<IoError> io_error(m, "IoError", PyExc_OSError);
-  static py::exception<Cancelled> cancelled(m, "Cancelled");
+  const auto bases = [&](PyObject* builtin) {
+    return py::make_tuple(error, py::handle(builtin));
+  };
+  static py::exception<InvalidInput> invalid_input(m, "InvalidInput", bases(PyExc_ValueError));
+  static py::exception<InvalidOption> invalid_option(m, "InvalidOption", bases(PyExc_ValueError));
+  static py::exception<InvalidArgument> invalid_argument(m, "InvalidArgument",
+                                                         bases(PyExc_ValueError));
+  static py::exception<IoError> io_error(m, "IoError", bases(PyExc_OSError));
+  static py::exception<Cancelled> cancelled(m, "Cancelled", error);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -529,6 +550,31 @@ PYBIND11_MODULE(vmas, m) {
             return d;
           },
           "everything as a dict of arrays, lists and dicts")
+      // Picklable (multiprocessing returns results so): what Python sees of it.
+      .def(py::pickle(
+          [](const PythonResult& r) {
+            const MedialMesh& mm = r.result.medial_mesh;
+            return py::make_tuple(centers_of(mm), radii_of(mm), index_matrix(mm.edges),
+                                  index_matrix(mm.faces),
+                                  py::array_t<int>(r.result.labels.size(), r.result.labels.data()),
+                                  warnings_of(r.result.warnings), r.summary);
+          },
+          [](const py::tuple& state) {
+            if (state.size() != 7) throw py::value_error("not a pickled vmas.Result");
+            PythonResult r;
+            MedialMesh& mm = r.result.medial_mesh;
+            const std::vector<Vec3> centers = rows_of(state[0], "centers");
+            const auto radii = state[1].cast<std::vector<double>>();
+            for (std::size_t i = 0; i < centers.size() && i < radii.size(); ++i)
+              mm.spheres.push_back({centers[i], radii[i]});
+            for (const auto& e : state[2].cast<std::vector<std::array<int, 2>>>()) mm.edges.push_back(e);
+            if (py::array::ensure(state[3]).size() > 0) mm.faces = faces_of(state[3]);
+            r.result.labels = state[4].cast<std::vector<int>>();
+            for (const auto& w : state[5].cast<std::vector<std::pair<std::string, std::string>>>())
+              r.result.warnings.push_back({w.first, w.second});
+            r.summary = state[6].cast<std::string>();
+            return r;
+          }))
       .def("__repr__", [](const PythonResult& r) {
         const MedialMesh& mm = r.result.medial_mesh;
         return "<vmas.Result: " + std::to_string(mm.spheres.size()) + " spheres, " +
@@ -677,9 +723,10 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 
   m.def(
       "read",
-      [](const std::string& path) {
+      [](const py::object& path) {
+        const std::string file = path_of(path);
         py::gil_scoped_release released;
-        return read_surface_as_stored(path);
+        return read_surface_as_stored(file);
       },
       py::arg("path"),
       "Reads a shape (.off .ply .obj .xyz .txt .pcd) as `vmas skeletonize` does: every point "
@@ -688,10 +735,11 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 
   m.def(
       "write",
-      [](const std::string& path, py::object medial) {
+      [](const py::object& path, py::object medial) {
+        const std::string file = path_of(path);
         const MedialMesh mesh = medial_of(medial);
         py::gil_scoped_release released;
-        write_medial_mesh(path, mesh);
+        write_medial_mesh(file, mesh);
       },
       py::arg("path"), py::arg("medial"),
       "Writes a medial mesh (a Result, a MedialMesh or anything with centers, radii, edges, "
@@ -699,9 +747,10 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 
   m.def(
       "read_medial",
-      [](const std::string& path) {
+      [](const py::object& path) {
+        const std::string file = path_of(path);
         py::gil_scoped_release released;
-        return read_medial_mesh(path);
+        return read_medial_mesh(file);
       },
       py::arg("path"), "Reads a medial mesh (.ply or .ma).");
 
@@ -713,11 +762,13 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
                                          : surface_of(shape, py::none(), faces);
         const MedialMesh mesh = medial_of(medial);
         EvalResult r;
+        OpeningReach openings;
         {
           py::gil_scoped_release released;
           SurfaceInput cleaned = surface;
           clean_surface(cleaned);
           r = evaluate(cleaned, mesh);
+          openings = opening_reach(cleaned, r);
         }
         py::dict d;
         d["diagonal"] = r.diagonal;
@@ -726,6 +777,8 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
         d["surface_to_medial_mean_percent"] = r.percent(r.surface_to_medial_mean);
         d["medial_to_surface_max_percent"] = r.percent(r.medial_to_surface_max);
         d["medial_to_surface_mean_percent"] = r.percent(r.medial_to_surface_mean);
+        d["openings"] = openings.openings;
+        d["reach_percent"] = r.percent(openings.reach);
         d["surface_samples"] = r.surface_sample_count;
         d["boundary_samples"] = r.boundary_sample_count;
         return d;
@@ -733,5 +786,6 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
       py::arg("shape"), py::arg("medial"), py::arg("faces") = py::none(),
       "The figures of `vmas eval`: the two-sided Hausdorff distance between a shape (a "
       "vmas.Surface, or an (N, 3) array and optional faces) and the reconstruction of a medial "
-      "mesh, in % of the shape's diagonal (dict).");
+      "mesh, in % of the shape's diagonal, and against a cloud its openings and how far the "
+      "reconstruction reaches past them (dict).");
 }

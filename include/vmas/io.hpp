@@ -47,6 +47,7 @@ std::string surface_file(const std::string& path, const SurfaceInput& surface);
 // (Q-MAT format: "nv ne nf", then v/e/f lines, 0-based). Spheres with a non-finite value or one
 // beyond +-1e150 are an IoError.
 MedialMesh read_medial_mesh(const std::string& path);
+// Refuses (InvalidInput) what read_medial_mesh would refuse, and a negative radius.
 void write_medial_mesh(const std::string& path, const MedialMesh& mesh);
 // The bytes write_medial_mesh would write to `path` (its format by the extension).
 std::string medial_mesh_file(const std::string& path, const MedialMesh& mesh);

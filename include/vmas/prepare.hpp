@@ -96,6 +96,8 @@ struct PrepareReport {
   double residual_noise = 0.0;  // noise deviation left after smoothing (absolute)
   bool normals_estimated = false, normals_oriented = false;
   std::size_t normals_turned = 0;  // estimated normals turned over by turn_inside_out_normals
+  double normals_disagreement = 0.0;  // a file's normals: the share of neighbours on one sheet
+                                      // pointing opposite ways; above 10 % they were oriented
   std::vector<Hole> holes;      // clouds: holes of the prepared points, widest first
   double seconds = 0.0;
   bool smoothed() const { return mls_radius > 0.0 || mesh_smoothing_steps > 0; }

@@ -49,7 +49,8 @@ struct Options {
 // Something about the input or the result the caller should know; the result is still usable.
 struct Warning {
   // A stable identifier, for programs: "open-surface", "open-mesh", "misoriented-faces",
-  // "inward-normals", "split-skeleton", "large-error" (measured ε above 5 % of the diagonal),
+  // "inward-normals", "normals-reoriented" (a cloud's normals of arbitrary sign, oriented),
+  // "split-skeleton", "large-error" (measured ε above 5 % of the diagonal),
   // "target-not-reached" (an error threshold stopped at the sphere cap).
   std::string code;
   std::string message;  // one line, for people

@@ -326,3 +326,49 @@ def test_a_skeletonizer_speaks_the_inputs_frame_and_rows():
                                atol=1e-9)
     labels = skeletonizer.labels
     assert labels.shape == (len(points),) and labels[7] == -1 and (np.delete(labels, 7) >= 0).all()
+
+
+def test_results_pickle_paths_and_errors_as_python_expects(tmp_path):
+    import pathlib
+    import pickle
+    points, normals = capsule_points(2000)
+    result = vmas.skeletonize(points, normals, spheres=5, threads=1)
+    again = pickle.loads(pickle.dumps(result))
+    for name in ("centers", "radii", "edges", "faces", "labels"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(result, name))
+    assert again.warnings == result.warnings and again.summary == result.summary
+    # Paths: str or os.PathLike.
+    path = pathlib.Path(tmp_path) / "skeleton.ply"
+    vmas.write(path, result)
+    np.testing.assert_allclose(vmas.read_medial(path).radii, result.radii, rtol=1e-6)  # float PLY
+    # vmas.Error is the base of every vmas exception, each also the built-in.
+    for name, builtin in (("InvalidInput", ValueError), ("InvalidOption", ValueError),
+                          ("InvalidArgument", ValueError), ("IoError", OSError),
+                          ("Cancelled", Exception)):
+        kind = getattr(vmas, name)
+        assert issubclass(kind, vmas.Error) and issubclass(kind, builtin)
+    with pytest.raises(vmas.Error):
+        vmas.read(pathlib.Path(tmp_path) / "missing.ply")
+    # write() refuses what read_medial() would refuse; nothing is left behind.
+    bad = {"centers": result.centers.copy(), "radii": result.radii.copy(),
+           "edges": result.edges, "faces": result.faces}
+    bad["centers"][0, 0] = np.nan
+    broken = type("Broken", (), bad)()
+    with pytest.raises(vmas.InvalidInput, match="sphere 0"):
+        vmas.write(tmp_path / "bad.ply", broken)
+    bad["centers"][0, 0] = 0.0
+    bad["radii"][1] = -1.0
+    with pytest.raises(vmas.InvalidInput, match="sphere 1"):
+        vmas.write(tmp_path / "bad.ply", type("Broken", (), bad)())
+    assert not (tmp_path / "bad.ply").exists()
+
+
+def test_inf_rows_are_dropped_like_nan_and_faces_are_checked():
+    points = sphere_points(800)
+    for missing in (np.nan, np.inf, -np.inf):
+        holed = points.copy()
+        holed[5] = missing
+        result = vmas.skeletonize(holed, spheres=3)
+        assert result.labels[5] == -1 and (np.delete(result.labels, 5) >= 0).all()
+    with pytest.raises(ValueError, match="out of range"):
+        vmas.skeletonize(points[:3], faces=np.array([[0, 1, 3]]), spheres=1)
