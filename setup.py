@@ -42,8 +42,13 @@ class CMakeBuild(build_ext):
         shutil.copyfile(library, os.path.join(folder, "vmas.libs", soname))
 
 
+# No Python packages to discover (src/ is C++); setuptools' own files go to build-python/ too.
+os.makedirs(os.path.join(ROOT, "build-python"), exist_ok=True)
 setup(version=cmake_version(),
+      packages=[],
+      py_modules=[],
       ext_modules=[Extension("vmas", sources=[])],
       cmdclass={"build_ext": CMakeBuild},
-      options={"build": {"build_base": "build-python"}},
+      options={"build": {"build_base": "build-python"},
+               "egg_info": {"egg_base": "build-python"}},
       zip_safe=False)
