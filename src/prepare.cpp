@@ -326,9 +326,14 @@ void cloud_normals(SurfaceInput& surface, PrepareReport& report, const PrepareOp
 
 }  // namespace
 
-PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options) {
+PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options,
+                              const std::function<bool(int)>& keep_going) {
   options.validate();
   const auto start = std::chrono::steady_clock::now();
+  int stage = 0;
+  const auto stage_done = [&] {
+    if (keep_going && !keep_going(++stage)) throw Cancelled();
+  };
   PrepareReport report;
   report.kept.resize(surface.points.size());
   std::iota(report.kept.begin(), report.kept.end(), 0);
@@ -338,9 +343,12 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
 
   thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points));
+  stage_done();
   const bool noise_measured = drop_outliers(surface, report, options);
+  stage_done();
   std::optional<internal::Neighbourhoods> neighbours =
       drop_stray_clusters(surface, report, options, noise_measured ? &report.noise : nullptr);
+  stage_done();
   report.diagonal = diagonal_of(bounding_box(surface.points));
   const bool noisy = is_noisy_input(surface, report, options, noise_measured);
   std::vector<Vec3> smoothed_normals;
@@ -352,6 +360,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     neighbours.reset();  // the smoothing moves the points
     smoothed_normals = smooth_noisy_cloud(surface, report, options);
   }
+  stage_done();
   // Only a clean mesh: a smoothed one's thin faces are the noise's, not an exporter's.
   if (surface.is_mesh() && !report.smoothed() && options.sample_coarse_meshes) {
     const MeshSampling sampling = sample_coarse_mesh(surface);
@@ -365,6 +374,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
     cloud_normals(surface, report, options, std::move(smoothed_normals), neighbours);
     report.holes = find_holes(surface.points, surface.normals, report.smoothed());
   }
+  stage_done();
   report.seconds = internal::seconds_since(start);
   return report;
 }

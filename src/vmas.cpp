@@ -174,13 +174,22 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   const auto start = Clock::now();
   PreparedShape prepared;
   prepared.run = options.run;
-  const auto check_cancel = [&] {
-    Progress preparing;
-    preparing.phase = Progress::Phase::Preparing;
-    preparing.target_spheres = prepared.run.target.count();
-    if (progress && !progress(preparing)) throw Cancelled();
+  // Preparing: `round` of `rounds` are the stages done: cleaning, those of prepare_surface, a
+  // smoothed cloud's thinning, the shape, its normals turned.
+  constexpr int kStages = 1 + kPrepareStages + 3;
+  const auto preparing = [&](int done) {
+    Progress now;
+    now.phase = Progress::Phase::Preparing;
+    now.target_spheres = prepared.run.target.count();
+    now.round = done;
+    now.rounds = kStages;
+    return !progress || progress(now);
   };
-  check_cancel();
+  int done = 0;
+  const auto stage_done = [&] {
+    if (!preparing(done++)) throw Cancelled();
+  };
+  stage_done();
 
   Result& result = prepared.result;
   SurfaceInput surface = std::move(input);
@@ -190,7 +199,11 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   if (surface.is_mesh()) result.mesh_defects = mesh_defects(surface.faces);
   const bool normals_given = !surface.is_mesh() && surface.has_normals() &&
                              !options.prepare.estimate_normals && !options.prepare.orient_normals;
-  result.prepare = prepare_surface(surface, options.prepare);
+  stage_done();
+  result.prepare = prepare_surface(surface, options.prepare, [&](int stage) {
+    return preparing(done + stage - 1);
+  });
+  done += kPrepareStages;
   result.seconds.prepare = result.prepare.seconds;
   if (normals_given && result.prepare.normals_oriented) {
     const int percent = static_cast<int>(std::round(100.0 * result.prepare.normals_disagreement));
@@ -204,7 +217,6 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
     result.warnings.push_back({"inward-normals",
                                "the file's normals point inward on the whole; --orient-normals "
                                "(options.prepare.orient_normals) re-orients them"});
-  check_cancel();
 
   adapt_shrinking_ball(result.prepare, prepared.run.shrinking_ball);
   const auto shape_start = Clock::now();
@@ -217,12 +229,15 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
         build_shape(surface, options.shape), prepared.run.shrinking_ball);
     thin_smoothed_cloud(surface, result.prepare, needed);
   }
+  stage_done();
   prepared.shape = build_shape(surface, options.shape);
+  stage_done();
   if (turn_inside_out_normals(surface, result.prepare, prepared.shape) > 0)
     prepared.shape = build_shape(surface, options.shape);
   prepared.surface = std::move(surface);
   result.input_components = component_count(prepared.shape);
   result.seconds.shape = seconds_since(shape_start);
+  stage_done();
   return prepared;
 }
 
@@ -237,10 +252,11 @@ EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   return measure;
 }
 
-PreparedShape prepare_shape(SurfaceInput input, const Options& options) {
+PreparedShape prepare_shape(SurfaceInput input, const Options& options,
+                            const ProgressCallback& progress) {
   options.validate();
   const ThreadCount threads(options.threads);
-  return prepare_with_progress(std::move(input), options, {});
+  return prepare_with_progress(std::move(input), options, progress);
 }
 
 namespace {

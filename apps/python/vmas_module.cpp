@@ -358,6 +358,7 @@ struct PythonProgress {
     if (callback.is_none()) return true;
     static const char* const kPhases[] = {"preparing", "optimising", "final_refit", "refining"};
     double fraction = 0.0;
+    if (p.phase == Progress::Phase::Preparing && p.rounds > 0) fraction = double(p.round) / p.rounds;
     if (p.phase == Progress::Phase::Optimising && p.target_spheres > 0)
       fraction = std::min(1.0, double(p.spheres) / p.target_spheres);
     if (p.phase == Progress::Phase::FinalRefit && p.rounds > 0)
@@ -396,9 +397,11 @@ PythonResult run_skeletonize(SurfaceInput surface, const Options& options,
 // Skeletonizer is not safe to use from two threads at once).
 class PythonSkeletonizer {
  public:
-  PythonSkeletonizer(SurfaceInput surface, const Options& options) : threads_(options.threads) {
+  // `progress`: called while preparing (Ctrl-C cancels there too).
+  PythonSkeletonizer(SurfaceInput surface, const Options& options, const ProgressCallback& progress)
+      : threads_(options.threads) {
     input_points_ = surface.points.size();
-    PreparedShape prepared = prepare_shape(std::move(surface), options);
+    PreparedShape prepared = prepare_shape(std::move(surface), options, progress);
     frame_ = prepared.result.prepare.frame;
     input_row_ = std::move(prepared.result.clean.kept);
     stand_in_ = std::move(prepared.result.prepare.stand_in);
@@ -592,8 +595,15 @@ PYBIND11_MODULE(vmas, m) {
                        py::object error, py::object threads, py::kwargs options) {
              Call call = call_of("Skeletonizer", points, normals, faces, spheres, error, threads,
                                  options);
-             py::gil_scoped_release released;
-             return std::make_unique<PySk>(std::move(call.surface), call.options);
+             PythonProgress watch{py::none()};  // Ctrl-C while preparing
+             try {
+               py::gil_scoped_release released;
+               return std::make_unique<PySk>(std::move(call.surface), call.options,
+                                             std::ref(watch));
+             } catch (const Cancelled&) {
+               if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
+               throw;
+             }
            }),
            py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
            py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),

@@ -47,4 +47,10 @@ struct InvalidArgument : Error {
   using Error::Error;
 };
 
+// Thrown by skeletonize() (and the stages that take a callback) when the progress callback
+// returned false.
+struct Cancelled : Error {
+  Cancelled() : Error("cancelled") {}
+};
+
 }  // namespace vmas

@@ -2,6 +2,7 @@
 // Turns a cleaned input into what the skeletonizer needs: outliers removed, scan noise measured
 // and smoothed away, normals estimated and oriented. What a front end would otherwise have to
 // repeat; the CLI is one caller.
+#include <functional>
 #include <vector>
 
 #include "vmas/projection.hpp"
@@ -112,7 +113,12 @@ struct PrepareReport {
 // coarse for the method (its faces are then sampled: sample_coarse_mesh); a noisy one has
 // its vertices smoothed along its faces (smooth_mesh) and stays a mesh. Throws InvalidInput when
 // too few points remain.
-PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options);
+// `keep_going` (optional) is called between stages, so that a long preparation can be stopped
+// (vmas::Cancelled is thrown when it returns false) and followed: its argument is the stages
+// done so far, of kPrepareStages.
+constexpr int kPrepareStages = 5;
+PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options,
+                              const std::function<bool(int)>& keep_going = {});
 
 // How many of a prepared surface's points a run of `spheres` spheres needs: a smoothed surface
 // holds no detail finer than its noise, and its points about 0.7 noises apart are enough, but no

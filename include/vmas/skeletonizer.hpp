@@ -109,7 +109,8 @@ struct Progress {
   int spheres = 0;            // spheres now
   int target_spheres = 0;     // the count asked for (0: an error threshold)
   double error = 0.0;         // total error Σ E_v / A(shape)
-  int round = 0, rounds = 0;  // FinalRefit: this round (1-based) of how many
+  int round = 0, rounds = 0;  // FinalRefit: this round (1-based) of how many; Preparing: the
+                              // stages done of how many
 };
 
 // Called from the thread that runs the optimisation; returning false stops it there.

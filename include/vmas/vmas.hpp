@@ -105,11 +105,6 @@ struct Result {
   std::vector<Warning> warnings;
 };
 
-// Thrown by skeletonize() when the progress callback returned false.
-struct Cancelled : Error {
-  Cancelled() : Error("cancelled") {}
-};
-
 // The first half of skeletonize(): the shape the optimisation runs on (cleaned, thinned,
 // denoised, with normals, in the working frame result.prepare.frame) and the run's options
 // adapted to what preparation found. For front ends that drive a Skeletonizer or an
@@ -121,7 +116,10 @@ struct PreparedShape {
   SkeletonizerOptions run;
   Result result;
 };
-PreparedShape prepare_shape(SurfaceInput input, const Options& options = {});
+// `progress` as skeletonize() calls it while preparing (Phase::Preparing, round of rounds:
+// the stages done); returning false cancels (throws Cancelled).
+PreparedShape prepare_shape(SurfaceInput input, const Options& options = {},
+                            const ProgressCallback& progress = {});
 
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
 // its smoothing, and on a smoothed mesh about smoothed_points_needed() of its vertices.

@@ -152,6 +152,9 @@ def test_progress_is_called_and_can_cancel():
     vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phases.append((phase, f)))
     assert {p for p, _ in phases} >= {"preparing", "optimising", "final_refit"}
     assert all(0.0 <= f <= 1.0 for _, f in phases)
+    # Preparing reports its stages: from 0 to 1, never back.
+    preparing = [f for p, f in phases if p == "preparing"]
+    assert preparing[0] == 0.0 and preparing[-1] == 1.0 and preparing == sorted(preparing)
     with pytest.raises(vmas.Cancelled):
         vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phase == "preparing")
 
@@ -177,6 +180,33 @@ def test_ctrl_c_raises_keyboard_interrupt():
     child.send_signal(signal.SIGINT)
     out, _ = child.communicate(timeout=60)
     assert out.strip() == "interrupted", out
+
+
+def test_ctrl_c_stops_a_skeletonizer_while_it_prepares():
+    # A million points without normals: preparation alone takes seconds (thinning, outliers,
+    # normals), and Ctrl-C must not wait for its end.
+    script = (
+        "import numpy as np, sys, time, vmas\n"
+        "p = np.random.default_rng(0).normal(size=(1000000, 3))\n"
+        "p /= np.linalg.norm(p, axis=1)[:, None]\n"
+        "p += np.random.default_rng(1).normal(scale=0.01, size=p.shape)\n"
+        "print('go', flush=True)\n"
+        "start = time.monotonic()\n"
+        "try:\n"
+        "    vmas.Skeletonizer(p, spheres=50)\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n")
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                             env=dict(os.environ))
+    assert child.stdout.readline().strip() == "go"
+    time.sleep(0.5)
+    sent = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=60)
+    waited = time.monotonic() - sent
+    assert out.strip() == "interrupted", out
+    print(f"Ctrl-C while preparing answered in {waited:.2f} s")
 
 
 def test_no_leak_over_many_calls():
