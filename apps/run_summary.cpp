@@ -15,6 +15,15 @@ double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
 
 }  // namespace
 
+json topology_summary(const MedialTopology& medial, const SurfaceGenus& input) {
+  return {{"input_genus", input.known ? json(input.genus) : json()},
+          {"input_genus_unknown", input.known ? std::string() : input.why},
+          {"b0", medial.components},
+          {"b1", medial.loops},
+          {"b2", medial.cavities},
+          {"duplicate_triangles", medial.duplicate_triangles}};
+}
+
 json run_summary(const Result& result, const RunContext& run) {
   const InputSize& input = run.input_size;
   const PrepareReport& prepared = result.prepare;
@@ -81,6 +90,7 @@ json run_summary(const Result& result, const RunContext& run) {
                                 prepared.diagonal)}}},
                   {"components",
                    {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
+                  {"topology", topology_summary(result.topology, result.input_genus)},
                   {"invalid_spheres",
                    {{"checked", result.invalid_spheres.checked},
                     {"outside", result.invalid_spheres.outside},

@@ -28,4 +28,9 @@ struct RunContext {
 
 json run_summary(const Result& result, const RunContext& run);
 
+// The `topology` object of both summaries (skeletonize's and eval's): the input's genus per
+// piece when known (`input_genus`: null and `input_genus_unknown` saying why otherwise), and the
+// medial mesh's Betti numbers and duplicate triangles.
+json topology_summary(const MedialTopology& medial, const SurfaceGenus& input);
+
 }  // namespace vmas::cli

@@ -197,6 +197,7 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   if (surface.points.empty()) throw InvalidInput("no usable points");
   result.seconds.clean = seconds_since(start);
   if (surface.is_mesh()) result.mesh_defects = mesh_defects(surface.faces);
+  result.input_genus = surface_genus(surface);
   const bool normals_given = !surface.is_mesh() && surface.has_normals() &&
                              !options.prepare.estimate_normals && !options.prepare.orient_normals;
   stage_done();
@@ -582,6 +583,7 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
     if (check) check_smoothing(pass, smoothed_seconds, input, points, options, progress);
   }
   Result result = std::move(pass.result);
+  result.topology = medial_topology(result.medial_mesh);
   result.warnings = warnings_about(result);
   result.seconds.total = seconds_since(start);
   return result;

@@ -19,6 +19,7 @@
 #include "vmas/refine.hpp"
 #include "vmas/shape.hpp"
 #include "vmas/skeletonizer.hpp"
+#include "vmas/topology.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
@@ -95,6 +96,8 @@ struct Result {
                              // for a mesh without boundary, non-manifold or misoriented edges)
   int input_components = 0;  // of the shape's neighbour graph (mesh edges or k-NN graph)
   int skeleton_components = 0;  // of the medial mesh
+  SurfaceGenus input_genus;     // meshes: the genus of each piece, when known
+  MedialTopology topology;      // of the medial mesh: pieces, loops, cavities
   InvalidSpheres invalid_spheres;
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
                                 // data (the refinement's measure), fraction of its diagonal

@@ -1,0 +1,138 @@
+#include "vmas/topology.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <map>
+#include <unordered_map>
+#include <utility>
+
+#include "disjoint_sets.hpp"
+#include "vmas/clean.hpp"
+
+namespace vmas {
+
+namespace {
+
+std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// Gaussian elimination over Z/2 of boundary vectors (sorted ids), one at a time: a vector that
+// reduces to nothing lies in the span of those before it.
+class Z2Reduction {
+ public:
+  // Adds `column` (sorted ascending); returns whether it was independent of the ones before.
+  bool add(std::vector<int> column) {
+    while (!column.empty()) {
+      const auto pivot = by_pivot_.find(column.back());
+      if (pivot == by_pivot_.end()) {
+        const int lowest = column.back();
+        by_pivot_.emplace(lowest, std::move(column));
+        return true;
+      }
+      std::vector<int> sum;
+      std::set_symmetric_difference(column.begin(), column.end(), pivot->second.begin(),
+                                    pivot->second.end(), std::back_inserter(sum));
+      column = std::move(sum);
+    }
+    return false;
+  }
+  std::size_t rank() const { return by_pivot_.size(); }
+
+ private:
+  std::unordered_map<int, std::vector<int>> by_pivot_;  // reduced columns by their largest id
+};
+
+}  // namespace
+
+MedialTopology medial_topology(const MedialMesh& medial) {
+  MedialTopology topology;
+  const int spheres = static_cast<int>(medial.spheres.size());
+  std::unordered_map<std::uint64_t, int> edge_ids;
+  const auto edge_id = [&](int a, int b) {
+    return edge_ids.try_emplace(edge_key(a, b), static_cast<int>(edge_ids.size())).first->second;
+  };
+  internal::DisjointSets pieces(spheres);
+  for (const auto& e : medial.edges) {
+    if (e[0] == e[1]) continue;
+    edge_id(e[0], e[1]);
+    pieces.unite(e[0], e[1]);
+  }
+  std::map<std::array<int, 3>, int> seen;  // each triangle once
+  Z2Reduction boundaries;
+  for (int t = 0; t < static_cast<int>(medial.faces.size()); ++t) {
+    std::array<int, 3> sorted = medial.faces[t];
+    std::sort(sorted.begin(), sorted.end());
+    if (sorted[0] == sorted[1] || sorted[1] == sorted[2]) continue;  // not a triangle
+    if (!seen.emplace(sorted, t).second) {
+      ++topology.duplicate_triangles;
+      continue;
+    }
+    std::vector<int> boundary = {edge_id(sorted[0], sorted[1]), edge_id(sorted[1], sorted[2]),
+                                 edge_id(sorted[0], sorted[2])};
+    std::sort(boundary.begin(), boundary.end());
+    pieces.unite(sorted[0], sorted[1]);
+    pieces.unite(sorted[1], sorted[2]);
+    if (!boundaries.add(std::move(boundary))) topology.closing_triangles.push_back(t);
+  }
+  const int edges = static_cast<int>(edge_ids.size());
+  const int triangles = static_cast<int>(seen.size());
+  topology.components = pieces.sets();
+  const int edge_rank = spheres - topology.components;  // rank of ∂1: a spanning forest
+  const int triangle_rank = static_cast<int>(boundaries.rank());
+  topology.loops = edges - edge_rank - triangle_rank;
+  topology.cavities = triangles - triangle_rank;
+  return topology;
+}
+
+SurfaceGenus surface_genus(const SurfaceInput& mesh) {
+  SurfaceGenus result;
+  if (!mesh.is_mesh()) {
+    result.why = "a point cloud (no faces)";
+    return result;
+  }
+  const MeshDefects defects = mesh_defects(mesh.faces);
+  if (!defects.closed()) {
+    result.why = defects.boundary_edges > 0       ? "the mesh is open"
+                 : defects.non_manifold_edges > 0 ? "the mesh has non-manifold edges"
+                                                  : "the mesh has misoriented faces";
+    return result;
+  }
+  const int points = static_cast<int>(mesh.points.size());
+  internal::DisjointSets pieces(points);
+  for (const auto& f : mesh.faces) {
+    pieces.unite(f[0], f[1]);
+    pieces.unite(f[1], f[2]);
+  }
+  // V − E + F per piece (each edge lies on two faces: E = 3F / 2).
+  std::map<int, int> order;  // root -> piece, by first face
+  std::vector<long long> twice_characteristic;
+  std::vector<char> counted(points, 0);
+  for (const auto& f : mesh.faces) {
+    const int root = pieces.find(f[0]);
+    const auto [entry, fresh] = order.emplace(root, static_cast<int>(order.size()));
+    if (fresh) twice_characteristic.push_back(0);
+    long long& chi2 = twice_characteristic[entry->second];
+    chi2 += 2 - 3;  // a face, and half of each of its three edges
+    for (int v : f)
+      if (!counted[v]) {
+        counted[v] = 1;
+        chi2 += 2;
+      }
+  }
+  for (long long chi2 : twice_characteristic) {
+    // 2χ = 4 − 4g
+    if ((4 - chi2) % 4 != 0 || chi2 > 4) {
+      result.genus.clear();
+      result.why = "a piece's Euler characteristic fits no closed surface (a pinched vertex)";
+      return result;
+    }
+    result.genus.push_back(static_cast<int>((4 - chi2) / 4));
+  }
+  result.known = true;
+  return result;
+}
+
+}  // namespace vmas
