@@ -10,6 +10,7 @@
 #include "partition.hpp"
 #include "split.hpp"
 #include "stopwatch.hpp"
+#include "vmas/topology.hpp"
 #include "update.hpp"
 #include "validate_member.hpp"
 #include "vmas/error.hpp"
@@ -468,7 +469,13 @@ void Skeletonizer::rebuild_members() {
 
 MedialMesh Skeletonizer::medial_mesh() const {
   const int count = static_cast<int>(spheres_.size());
-  return build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
+  MedialMesh mesh = build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
+  if (options_.open_cavities) {
+    // The closing triangles' edges stay (the mesh lists every edge of its faces).
+    const std::vector<int> closing = medial_topology(mesh).closing_triangles;
+    for (auto t = closing.rbegin(); t != closing.rend(); ++t) mesh.faces.erase(mesh.faces.begin() + *t);
+  }
+  return mesh;
 }
 
 }  // namespace vmas

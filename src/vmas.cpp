@@ -112,6 +112,28 @@ std::vector<Warning> warnings_about(const Result& result) {
                                " components, the input " + std::to_string(result.input_components) +
                                ": a thin part may have lost its spheres; more spheres "
                                "(--spheres) usually join them"});
+  // The medial axis of a solid has a loop per handle and no cavity (issue 50).
+  const MedialTopology& topology = result.topology;
+  const bool known = result.input_genus.known && result.input_genus.genus.size() == 1;
+  const bool loops_differ = known && topology.loops != result.input_genus.genus.front();
+  if (loops_differ || topology.cavities > 0) {
+    std::string what = "the skeleton has " + std::to_string(topology.loops) + " loop" +
+                       (topology.loops == 1 ? "" : "s") + " and " +
+                       std::to_string(topology.cavities) + " cavit" +
+                       (topology.cavities == 1 ? "y" : "ies");
+    if (known)
+      what += ", the input genus " + std::to_string(result.input_genus.genus.front());
+    std::string remedy;
+    if (topology.cavities > 0)
+      remedy = "--open-cavities (options.run.open_cavities) leaves out the triangles that close "
+               "cavities";
+    if (loops_differ)
+      remedy += std::string(remedy.empty() ? "" : "; ") +
+                (topology.loops < result.input_genus.genus.front()
+                     ? "more spheres (--spheres) usually close a missing loop"
+                     : "an extra loop is a hole of the skeleton: more spheres usually fill it");
+    warnings.push_back({"topology-mismatch", what + ": " + remedy});
+  }
   const InvalidSpheres& invalid = result.invalid_spheres;
   if (invalid.outside > 0 || invalid.radius_off > 0)
     warnings.push_back(

@@ -6,6 +6,7 @@
 
 #include "test_shapes.hpp"
 #include "vmas/topology.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {
@@ -109,6 +110,31 @@ TEST(MedialTopology, LoopsCavitiesAndDuplicatesOfHandMadeMeshes) {
   t = medial_topology(pair);
   EXPECT_EQ(t.cavities, 2);
   EXPECT_EQ(t.closing_triangles.size(), 2u);
+}
+
+// A torus at 60 spheres: its loop, and cavities that cluster adjacency closes; reported, and
+// left out with open_cavities, the loop kept.
+TEST(MedialTopology, CavitiesOfARunAreReportedAndLeftOutOnRequest) {
+  const SurfaceInput torus = test::torus(1.0, 0.3, 48, 24);
+  Options options;
+  options.run.target.spheres = 60;
+  const Result as_built = skeletonize(torus, options);
+  EXPECT_EQ(as_built.input_genus.genus, std::vector<int>{1});
+  EXPECT_EQ(as_built.topology.components, 1);
+  EXPECT_EQ(as_built.topology.loops, 1);
+  ASSERT_GT(as_built.topology.cavities, 0);
+  const auto has_warning = [](const Result& r) {
+    for (const Warning& w : r.warnings)
+      if (w.code == "topology-mismatch") return true;
+    return false;
+  };
+  EXPECT_TRUE(has_warning(as_built));
+  options.run.open_cavities = true;
+  const Result opened = skeletonize(torus, options);
+  EXPECT_EQ(opened.topology.components, 1);
+  EXPECT_EQ(opened.topology.loops, 1);
+  EXPECT_EQ(opened.topology.cavities, 0);
+  EXPECT_FALSE(has_warning(opened));
 }
 
 }  // namespace

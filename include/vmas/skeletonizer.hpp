@@ -64,6 +64,10 @@ struct SkeletonizerOptions {
   // quarter of the vertices, at least 50 per sphere; coarsen_shape), then settles and refits
   // them on the whole shape. Steps on the coarse shape cost a fraction.
   bool coarse_start = true;
+  // The medial mesh leaves out the triangles that close its cavities (MedialTopology's
+  // closing_triangles): no cavity, the same pieces and loops (the medial axis of a solid encloses
+  // nothing). Cluster adjacency makes every 3-clique a triangle, and closed pockets of them.
+  bool open_cavities = false;
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;

@@ -51,7 +51,8 @@ struct Options {
 struct Warning {
   // A stable identifier, for programs: "open-surface", "open-mesh", "misoriented-faces",
   // "inward-normals", "normals-reoriented" (a cloud's normals of arbitrary sign, oriented),
-  // "split-skeleton", "large-error" (measured ε above 5 % of the diagonal),
+  // "split-skeleton", "topology-mismatch" (loops other than the input's genus, or cavities),
+  // "large-error" (measured ε above 5 % of the diagonal),
   // "target-not-reached" (an error threshold stopped at the sphere cap).
   std::string code;
   std::string message;  // one line, for people
