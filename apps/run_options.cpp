@@ -114,9 +114,8 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
       ("orient-normals", "orient the file's normals consistently and outward instead of keeping "
        "their signs (for normals with arbitrary signs, e.g. oriented towards a scanner)")
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
-      ("open-cavities", "leave out the triangles that close cavities of the skeleton (closed "
-       "pockets of triangles that the medial axis of a solid never has): no cavity, the same "
-       "pieces and loops")
+      ("keep-cavities", "keep the triangles that close cavities of the skeleton (closed pockets "
+       "of triangles that the medial axis of a solid never has), which are otherwise left out")
       ("no-coarse-start", "with --spheres: grow the spheres on the whole shape from the start "
        "instead of on a coarsened copy (slower)")
       ("max-iterations", po::value(&values.options.run.max_iterations)
@@ -158,7 +157,7 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   if (vm.count("error") && !(target.error > 0.0)) throw InvalidOption("error", "must be positive");
   options.run.project = !vm.count("no-projection");
   options.run.coarse_start = !vm.count("no-coarse-start");
-  options.run.open_cavities = vm.count("open-cavities") > 0;
+  options.run.open_cavities = vm.count("keep-cavities") == 0;
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);
   options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
   options.prepare.remove_stray_clusters = vm.count("keep-strays") == 0;

@@ -125,8 +125,8 @@ std::vector<Warning> warnings_about(const Result& result) {
       what += ", the input genus " + std::to_string(result.input_genus.genus.front());
     std::string remedy;
     if (topology.cavities > 0)
-      remedy = "--open-cavities (options.run.open_cavities) leaves out the triangles that close "
-               "cavities";
+      remedy = "they were kept (--keep-cavities; options.run.open_cavities leaves out the "
+               "triangles that close them)";
     if (loops_differ)
       remedy += std::string(remedy.empty() ? "" : "; ") +
                 (topology.loops < result.input_genus.genus.front()

@@ -67,7 +67,7 @@ struct SkeletonizerOptions {
   // The medial mesh leaves out the triangles that close its cavities (MedialTopology's
   // closing_triangles): no cavity, the same pieces and loops (the medial axis of a solid encloses
   // nothing). Cluster adjacency makes every 3-clique a triangle, and closed pockets of them.
-  bool open_cavities = false;
+  bool open_cavities = true;
   UpdateOptions update;
   ShrinkingBallOptions shrinking_ball;
   SplitOptions split;
