@@ -304,7 +304,7 @@ double EditSession::Impl::measure() {
   const Skeletonizer& s = *skeletonizer_;
   if (!evaluator_)  // a tree over the surface: built once, by the first measurement
     evaluator_ = std::make_unique<Evaluator>(finish_options_.surface, finish_options_.measure);
-  return (*evaluator_)(s.medial_mesh()).hausdorff / s.shape().diagonal;
+  return (*evaluator_)(s.adjacency_mesh()).hausdorff / s.shape().diagonal;
 }
 
 void EditSession::Impl::apply_finish() {

@@ -8,7 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "edge_key.hpp"
+
 namespace vmas {
+
+using internal::edge_key;
 
 namespace {
 
@@ -37,11 +41,6 @@ bool coarse_face(const SurfaceInput& mesh, const std::array<int, 3>& f, double s
                           squared_length(mesh, f[2], f[0])}));
   const double height = 2.0 * triangle_area(mesh, f) / longest;
   return longest > kCoarseEdgeInSpacings * spacing && longest > kThinAspect * height;
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
 }
 
 // The vertices of a mesh in cells of a grid, to find those near a point; each with the unit

@@ -224,7 +224,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
   MedialMesh medial;
   int components = 0;
   const auto measure = [&] {
-    medial = skeletonizer.medial_mesh();
+    medial = skeletonizer.adjacency_mesh();
     components = component_count(medial);
     return evaluator(medial);
   };

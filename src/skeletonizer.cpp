@@ -467,15 +467,13 @@ void Skeletonizer::rebuild_members() {
   for (int v = 0; v < shape_.size(); ++v) members_[labels_[v]].push_back(v);
 }
 
-MedialMesh Skeletonizer::medial_mesh() const {
+MedialMesh Skeletonizer::adjacency_mesh() const {
   const int count = static_cast<int>(spheres_.size());
-  MedialMesh mesh = build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
-  if (options_.open_cavities) {
-    // The closing triangles' edges stay (the mesh lists every edge of its faces).
-    const std::vector<int> closing = medial_topology(mesh).closing_triangles;
-    for (auto t = closing.rbegin(); t != closing.rend(); ++t) mesh.faces.erase(mesh.faces.begin() + *t);
-  }
-  return mesh;
+  return build_medial_mesh(spheres_, cluster_adjacency(shape_, labels_, count));
+}
+
+MedialMesh Skeletonizer::medial_mesh() const {
+  return options_.open_cavities ? without_cavities(adjacency_mesh()) : adjacency_mesh();
 }
 
 }  // namespace vmas

@@ -4,20 +4,19 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <unordered_map>
 #include <utility>
 
 #include "disjoint_sets.hpp"
+#include "edge_key.hpp"
 #include "vmas/clean.hpp"
 
 namespace vmas {
 
-namespace {
+using internal::edge_key;
 
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-}
+namespace {
 
 // Gaussian elimination over Z/2 of boundary vectors (sorted ids), one at a time: a vector that
 // reduces to nothing lies in the span of those before it.
@@ -62,7 +61,22 @@ MedialTopology medial_topology(const MedialMesh& medial) {
   }
   std::map<std::array<int, 3>, int> seen;  // each triangle once
   Z2Reduction boundaries;
-  for (int t = 0; t < static_cast<int>(medial.faces.size()); ++t) {
+  // The triangles whose slabs reach out least (the smallest spread of their spheres' extents)
+  // come last, so that a cavity is opened where its wall covers least.
+  const auto reach = [&](int t) {
+    const auto& f = medial.faces[t];
+    const Sphere& a = medial.spheres[f[0]];
+    const Sphere& b = medial.spheres[f[1]];
+    const Sphere& c = medial.spheres[f[2]];
+    return (b.center - a.center).cross(c.center - a.center).norm() +
+           (a.radius + b.radius + c.radius) * (a.radius + b.radius + c.radius);
+  };
+  std::vector<int> order(medial.faces.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<double> reaches(order.size());
+  for (int t : order) reaches[t] = reach(t);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return reaches[x] > reaches[y]; });
+  for (int t : order) {
     std::array<int, 3> sorted = medial.faces[t];
     std::sort(sorted.begin(), sorted.end());
     if (sorted[0] == sorted[1] || sorted[1] == sorted[2]) continue;  // not a triangle
@@ -77,6 +91,7 @@ MedialTopology medial_topology(const MedialMesh& medial) {
     pieces.unite(sorted[1], sorted[2]);
     if (!boundaries.add(std::move(boundary))) topology.closing_triangles.push_back(t);
   }
+  std::sort(topology.closing_triangles.begin(), topology.closing_triangles.end());
   const int edges = static_cast<int>(edge_ids.size());
   const int triangles = static_cast<int>(seen.size());
   topology.components = pieces.sets();
@@ -85,6 +100,13 @@ MedialTopology medial_topology(const MedialMesh& medial) {
   topology.loops = edges - edge_rank - triangle_rank;
   topology.cavities = triangles - triangle_rank;
   return topology;
+}
+
+MedialMesh without_cavities(MedialMesh medial) {
+  const std::vector<int> closing = medial_topology(medial).closing_triangles;
+  for (auto t = closing.rbegin(); t != closing.rend(); ++t)
+    medial.faces.erase(medial.faces.begin() + *t);
+  return medial;
 }
 
 SurfaceGenus surface_genus(const SurfaceInput& mesh) {

@@ -342,7 +342,7 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
     result.measured_error = result.refine.error_after;
   } else {
     measurer = std::make_unique<Evaluator>(prepared.surface, measure);
-    result.measured_error = (*measurer)(skeletonizer.medial_mesh()).hausdorff;
+    result.measured_error = (*measurer)(skeletonizer.adjacency_mesh()).hausdorff;
   }
   if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
@@ -352,7 +352,9 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
                        std::to_string(result.summary.spheres) + "); ask for fewer");
 
   const auto connectivity_start = Clock::now();
-  result.medial_mesh = result.prepare.frame.to_input(skeletonizer.medial_mesh());
+  // Every triangle until skeletonize() ends: the choice of a start and the check of the
+  // smoothing measure what the refinement measured.
+  result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
   result.skeleton_components = component_count(result.medial_mesh);
   result.seconds.connectivity = seconds_since(connectivity_start);
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
@@ -605,6 +607,7 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
     if (check) check_smoothing(pass, smoothed_seconds, input, points, options, progress);
   }
   Result result = std::move(pass.result);
+  if (options.run.open_cavities) result.medial_mesh = without_cavities(std::move(result.medial_mesh));
   result.topology = medial_topology(result.medial_mesh);
   result.warnings = warnings_about(result);
   result.seconds.total = seconds_since(start);

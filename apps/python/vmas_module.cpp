@@ -16,6 +16,7 @@
 
 #include "../commands.hpp"
 #include "../run_summary.hpp"
+#include "vmas/edit_session.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
@@ -395,16 +396,51 @@ PythonResult run_skeletonize(SurfaceInput surface, const Options& options,
 // results in the input's coordinates and its labels by input row. Every call runs with the
 // object's thread count, one at a time: a second Python thread waits for the first (a
 // Skeletonizer is not safe to use from two threads at once).
+// How a prepared shape maps back to its input: the frame, and the input row of every vertex.
+class InputMap {
+ public:
+  InputMap() = default;
+  InputMap(std::size_t input_points, const PreparedShape& prepared)
+      : frame_(prepared.result.prepare.frame),
+        input_points_(input_points),
+        input_row_(prepared.result.clean.kept),
+        stand_in_(prepared.result.prepare.stand_in) {}
+
+  // The sphere of every input row, −1 for a row that cleaning or preparation dropped.
+  std::vector<int> input_labels(const std::vector<int>& labels) const {
+    std::vector<int> by_row(input_points_, -1);
+    for (std::size_t i = 0; i < stand_in_.size(); ++i)
+      if (stand_in_[i] >= 0) by_row[input_row_[i]] = labels[stand_in_[i]];
+    return by_row;
+  }
+
+  const Frame& frame() const { return frame_; }
+
+ private:
+  Frame frame_;
+  std::size_t input_points_ = 0;
+  std::vector<int> input_row_;  // of every cleaned point
+  std::vector<int> stand_in_;   // of every cleaned point: its prepared point, or −1
+};
+
+// The shape prepared as vmas.skeletonize prepares it; Ctrl-C stops the preparation.
+PreparedShape prepared_for_python(SurfaceInput surface, const Options& options) {
+  PythonProgress watch{py::none()};
+  try {
+    py::gil_scoped_release released;
+    return prepare_shape(std::move(surface), options, std::ref(watch));
+  } catch (const Cancelled&) {
+    if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
+    throw;
+  }
+}
+
 class PythonSkeletonizer {
  public:
-  // `progress`: called while preparing (Ctrl-C cancels there too).
-  PythonSkeletonizer(SurfaceInput surface, const Options& options, const ProgressCallback& progress)
-      : threads_(options.threads) {
-    input_points_ = surface.points.size();
-    PreparedShape prepared = prepare_shape(std::move(surface), options, progress);
-    frame_ = prepared.result.prepare.frame;
-    input_row_ = std::move(prepared.result.clean.kept);
-    stand_in_ = std::move(prepared.result.prepare.stand_in);
+  PythonSkeletonizer(SurfaceInput surface, const Options& options) : threads_(options.threads) {
+    const std::size_t rows = surface.points.size();
+    PreparedShape prepared = prepared_for_python(std::move(surface), options);
+    map_ = InputMap(rows, prepared);
     skeletonizer_ = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
   }
 
@@ -418,24 +454,43 @@ class PythonSkeletonizer {
     return work(*skeletonizer_);
   }
 
-  // The sphere of every input row, −1 for a row that cleaning or preparation dropped.
   std::vector<int> input_labels(const std::vector<int>& labels) const {
-    std::vector<int> by_row(input_points_, -1);
-    for (std::size_t i = 0; i < stand_in_.size(); ++i)
-      if (stand_in_[i] >= 0) by_row[input_row_[i]] = labels[stand_in_[i]];
-    return by_row;
+    return map_.input_labels(labels);
   }
-
-  const Frame& frame() const { return frame_; }
+  const Frame& frame() const { return map_.frame(); }
 
  private:
   int threads_;
-  Frame frame_;
-  std::size_t input_points_ = 0;
-  std::vector<int> input_row_;  // of every cleaned point
-  std::vector<int> stand_in_;   // of every cleaned point: its prepared point, or −1
+  InputMap map_;
   std::mutex mutex_;
   std::unique_ptr<Skeletonizer> skeletonizer_;
+};
+
+// vmas.EditSession: the optimisation in a worker thread while Python edits it (the paper's
+// workflow); the library's EditSession is safe to call from any thread.
+class PythonEditSession {
+ public:
+  PythonEditSession(SurfaceInput surface, const Options& options) {
+    const std::size_t rows = surface.points.size();
+    PreparedShape prepared = prepared_for_python(std::move(surface), options);
+    map_ = InputMap(rows, prepared);
+    FinishOptions finish = finish_as_skeletonize_does(prepared, options);
+    session_ = std::make_unique<EditSession>(std::move(prepared.shape), prepared.run,
+                                             options.threads, std::move(finish));
+  }
+  EditSession& session() {
+    if (!session_) throw InvalidArgument("the session is closed");
+    return *session_;
+  }
+  void close() {
+    py::gil_scoped_release released;  // the worker may be waiting for nothing of Python's
+    session_.reset();
+  }
+  const InputMap& map() const { return map_; }
+
+ private:
+  InputMap map_;
+  std::unique_ptr<EditSession> session_;
 };
 
 }  // namespace
@@ -595,15 +650,7 @@ PYBIND11_MODULE(vmas, m) {
                        py::object error, py::object threads, py::kwargs options) {
              Call call = call_of("Skeletonizer", points, normals, faces, spheres, error, threads,
                                  options);
-             PythonProgress watch{py::none()};  // Ctrl-C while preparing
-             try {
-               py::gil_scoped_release released;
-               return std::make_unique<PySk>(std::move(call.surface), call.options,
-                                             std::ref(watch));
-             } catch (const Cancelled&) {
-               if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
-               throw;
-             }
+             return std::make_unique<PySk>(std::move(call.surface), call.options);
            }),
            py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
            py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
@@ -700,6 +747,106 @@ PYBIND11_MODULE(vmas, m) {
       .def_property_readonly("spheres", [](PySk& p) {
         return p.locked([](Skeletonizer& s) { return static_cast<int>(s.spheres().size()); });
       });
+
+  using PyEdit = PythonEditSession;
+  py::class_<PyEdit>(m, "EditSession",
+                     "The optimisation running in a worker thread while you edit it (the paper's "
+                     "dynamic editing, the engine of `vmas edit`): edits are queued and applied "
+                     "between steps; snapshot() gives the state now. Spheres are named by their "
+                     "keys. Any thread may call it. close() (or leaving a `with` block) stops the "
+                     "worker.")
+      .def(py::init([](py::object points, py::object normals, py::object faces, py::object spheres,
+                       py::object error, py::object threads, py::kwargs options) {
+             Call call = call_of("EditSession", points, normals, faces, spheres, error, threads,
+                                 options);
+             return std::make_unique<PyEdit>(std::move(call.surface), call.options);
+           }),
+           py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
+           py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
+           py::arg("threads") = 0,
+           "Prepares the shape as vmas.skeletonize does (same arguments and options) and starts "
+           "optimising at once.")
+      .def(
+          "remove",
+          [](PyEdit& e, std::uint64_t key) {
+            py::gil_scoped_release released;
+            e.session().remove(key);
+          },
+          py::arg("key"), "Removes the sphere with this key.")
+      .def(
+          "split_at",
+          [](PyEdit& e, int vertex) {
+            py::gil_scoped_release released;
+            e.session().split_at(vertex);
+          },
+          py::arg("vertex"), "A new sphere: the shrinking ball at this prepared vertex.")
+      .def(
+          "freeze",
+          [](PyEdit& e, std::uint64_t key, bool frozen) {
+            py::gil_scoped_release released;
+            e.session().freeze(key, frozen);
+          },
+          py::arg("key"), py::arg("frozen") = true,
+          "A frozen sphere is neither moved, split nor removed by the optimisation.")
+      .def(
+          "set_target_spheres",
+          [](PyEdit& e, int count) {
+            py::gil_scoped_release released;
+            e.session().set_target_spheres(count);
+          },
+          py::arg("count"))
+      .def(
+          "set_lambda",
+          [](PyEdit& e, double lambda) {
+            py::gil_scoped_release released;
+            e.session().set_lambda(lambda);
+          },
+          py::arg("lambda_"))
+      .def("undo", [](PyEdit& e) { e.session().undo(); })
+      .def("redo", [](PyEdit& e) { e.session().redo(); })
+      .def(
+          "pause", [](PyEdit& e, bool paused) { e.session().pause(paused); },
+          py::arg("paused") = true)
+      .def(
+          "finish", [](PyEdit& e) { e.session().finish(); },
+          "Ends as vmas.skeletonize does (final refits, refinement), then pauses.")
+      .def(
+          "wait",
+          [](PyEdit& e, std::uint64_t version, double timeout) {
+            py::gil_scoped_release released;
+            return e.session().wait_for_version(version, static_cast<int>(1000.0 * timeout));
+          },
+          py::arg("version") = 0, py::arg("timeout") = 1.0,
+          "Waits until a snapshot newer than `version` is out (or `timeout` s); its version.")
+      .def(
+          "snapshot",
+          [](PyEdit& e) {
+            EditSnapshot snap;
+            {
+              py::gil_scoped_release released;
+              snap = e.session().snapshot();
+            }
+            py::dict d;
+            d["version"] = snap.version;
+            d["iteration"] = snap.iteration;
+            d["error"] = snap.error;
+            d["paused"] = snap.paused;
+            d["target_spheres"] = snap.target_spheres;
+            d["keys"] = py::array_t<std::uint64_t>(snap.keys.size(), snap.keys.data());
+            d["frozen"] = py::cast(std::vector<bool>(snap.frozen));
+            d["medial_mesh"] = e.map().frame().to_input(snap.mesh);
+            const std::vector<int> labels = e.map().input_labels(snap.labels);
+            d["labels"] = py::array_t<int>(labels.size(), labels.data());
+            d["finished"] = snap.finished;
+            d["measured_error"] = snap.measured_error;
+            return d;
+          },
+          "The state now (dict): version, iteration, error, paused, target_spheres, keys, "
+          "frozen, medial_mesh (input's coordinates), labels (by input row), finished, "
+          "measured_error.")
+      .def("close", &PyEdit::close, "Stops the worker; later calls raise vmas.InvalidArgument.")
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PyEdit& e, py::args) { e.close(); });
 
   m.def(
       "skeletonize",

@@ -190,7 +190,12 @@ class Skeletonizer {
   // A state of this skeletonizer (InvalidArgument when it does not fit its shape).
   void restore(const SkeletonizerState& state);
 
+  // The medial mesh: the dual of cluster adjacency (every 3-clique a triangle), less the
+  // triangles that close cavities when options().open_cavities.
   MedialMesh medial_mesh() const;
+  // Every triangle kept: what the refinement measures (vmas/refine.hpp), so that its moves do
+  // not depend on which triangles happen to close a pocket.
+  MedialMesh adjacency_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }
   const std::vector<std::uint64_t>& keys() const { return keys_; }  // parallel to spheres()
   int id_of(std::uint64_t key) const;  // the sphere with that key, or -1

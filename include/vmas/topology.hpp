@@ -18,11 +18,16 @@ struct MedialTopology {
   int loops = 0;       // b1: independent cycles of edges that no triangles fill
   int cavities = 0;    // b2: closed pockets of triangles
   std::size_t duplicate_triangles = 0;
-  // Triangles in the order given (duplicates left out), each closing a cavity with the ones
-  // before it: removing them all leaves no cavity, the same pieces and the same loops.
+  // Triangles (indices, ascending) that each close a cavity with triangles whose slabs reach
+  // out further (by the area of the centres' triangle plus the squared sum of the radii):
+  // removing them all leaves no cavity, the same pieces and the same loops, and opens each
+  // cavity where its wall covers least.
   std::vector<int> closing_triangles;
 };
 MedialTopology medial_topology(const MedialMesh& medial);
+
+// `medial` less its closing triangles (their edges stay): no cavity, the same pieces and loops.
+MedialMesh without_cavities(MedialMesh medial);
 
 // The genus of each piece of a closed triangle mesh, from its Euler characteristic
 // (V − E + F = 2 − 2g), pieces in the order of their first face. Known only for a mesh without

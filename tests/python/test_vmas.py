@@ -402,3 +402,54 @@ def test_inf_rows_are_dropped_like_nan_and_faces_are_checked():
         assert result.labels[5] == -1 and (np.delete(result.labels, 5) >= 0).all()
     with pytest.raises(ValueError, match="out of range"):
         vmas.skeletonize(points[:3], faces=np.array([[0, 1, 3]]), spheres=1)
+
+
+def test_an_edit_session_optimises_while_python_edits():
+    """The paper's workflow from a notebook: the optimisation runs in the background while two
+    threads edit and read it; then it finishes as vmas.skeletonize does."""
+    import threading
+    points, normals = capsule_points(4000)
+    with vmas.EditSession(points, normals, spheres=20, threads=1) as session:
+        assert session.wait(0, timeout=10.0) > 0
+        failures = []
+        stop = time.monotonic() + 10.0
+
+        def edit():
+            rng = np.random.default_rng(5)
+            try:
+                while time.monotonic() < stop:
+                    session.split_at(int(rng.integers(3000)))
+                    keys = session.snapshot()["keys"]
+                    if len(keys) > 3:
+                        try:
+                            session.remove(int(keys[rng.integers(len(keys))]))
+                        except vmas.InvalidArgument:
+                            pass  # gone meanwhile, or too many edits waiting
+                    time.sleep(0.01)
+            except Exception as e:  # noqa: BLE001
+                failures.append(e)
+
+        def read():
+            try:
+                while time.monotonic() < stop:
+                    snap = session.snapshot()
+                    assert snap["medial_mesh"].centers.shape[0] == len(snap["keys"])
+                    assert snap["labels"].shape == (len(points),)
+            except Exception as e:  # noqa: BLE001
+                failures.append(e)
+
+        threads = [threading.Thread(target=edit), threading.Thread(target=read)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert not failures, failures
+        session.finish()
+        deadline = time.monotonic() + 120.0
+        while not session.snapshot()["finished"] and time.monotonic() < deadline:
+            session.wait(session.snapshot()["version"], timeout=1.0)
+        finished = session.snapshot()
+        assert finished["finished"] and finished["paused"]
+        assert (finished["labels"] >= 0).all()
+    with pytest.raises(vmas.InvalidArgument, match="closed"):
+        session.snapshot()
