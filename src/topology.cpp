@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <numeric>
@@ -74,8 +75,15 @@ MedialTopology medial_topology(const MedialMesh& medial) {
   std::vector<int> order(medial.faces.size());
   std::iota(order.begin(), order.end(), 0);
   std::vector<double> reaches(order.size());
-  for (int t : order) reaches[t] = reach(t);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return reaches[x] > reaches[y]; });
+  double widest = 0.0;
+  for (int t : order) widest = std::max(widest, reaches[t] = reach(t));
+  // Compared on a grid of a billionth of the widest: the same triangles whatever the frame
+  // (vmas skeletonize opens them in the input's, the editor in its working frame), where
+  // rounding could otherwise swap two equal ones; ties go by index.
+  std::vector<long long> rank(order.size(), 0);
+  if (widest > 0.0)
+    for (int t : order) rank[t] = std::llround(reaches[t] / widest * 1e9);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return rank[x] > rank[y]; });
   for (int t : order) {
     std::array<int, 3> sorted = medial.faces[t];
     std::sort(sorted.begin(), sorted.end());
