@@ -306,39 +306,47 @@ def test_keywords_are_checked_as_python_checks_arguments():
         vmas.skeletonize(noisy, spheres=3, denoise=[0.01])
 
 
-def test_a_skeletonizer_used_from_two_threads_takes_turns():
-    """Edits from one thread while another runs the optimisation: no crash, a consistent
-    state (the paper's workflow from a notebook)."""
+def run_in_threads(*work):
+    """Runs each callable in a thread of its own, all at once; the exceptions they raised."""
     import threading
-    points, normals = capsule_points(4000)
-    skeletonizer = vmas.Skeletonizer(points, normals, spheres=30, threads=1)
     failures = []
-    stop = time.monotonic() + 30.0  # the issue's stress: 30 s
 
-    def optimise():
-        try:
-            while time.monotonic() < stop:
-                skeletonizer.step()
-        except Exception as e:  # noqa: BLE001 - any failure is the test's
-            failures.append(e)
-
-    def edit():
-        rng = np.random.default_rng(3)
-        try:
-            while time.monotonic() < stop:
-                skeletonizer.add_sphere(int(rng.integers(len(skeletonizer.points))))
-                if skeletonizer.spheres > 2:
-                    skeletonizer.remove_sphere(int(rng.integers(skeletonizer.spheres)))
-                mesh = skeletonizer.medial_mesh()
-                assert mesh.centers.shape[0] == len(skeletonizer.keys)
-        except Exception as e:  # noqa: BLE001
-            failures.append(e)
-
-    threads = [threading.Thread(target=optimise), threading.Thread(target=edit)]
+    def guarded(function):
+        def run():
+            try:
+                function()
+            except Exception as e:  # noqa: BLE001 - any failure is the test's
+                failures.append(e)
+        return run
+    threads = [threading.Thread(target=guarded(function)) for function in work]
     for t in threads:
         t.start()
     for t in threads:
         t.join()
+    return failures
+
+
+def test_a_skeletonizer_used_from_two_threads_takes_turns():
+    """Edits from one thread while another runs the optimisation: no crash, a consistent
+    state (the paper's workflow from a notebook)."""
+    points, normals = capsule_points(4000)
+    skeletonizer = vmas.Skeletonizer(points, normals, spheres=30, threads=1)
+    stop = time.monotonic() + 30.0  # the issue's stress: 30 s
+
+    def optimise():
+        while time.monotonic() < stop:
+            skeletonizer.step()
+
+    def edit():
+        rng = np.random.default_rng(3)
+        while time.monotonic() < stop:
+            skeletonizer.add_sphere(int(rng.integers(len(skeletonizer.points))))
+            if skeletonizer.spheres > 2:
+                skeletonizer.remove_sphere(int(rng.integers(skeletonizer.spheres)))
+            mesh = skeletonizer.medial_mesh()
+            assert mesh.centers.shape[0] == len(skeletonizer.keys)
+
+    failures = run_in_threads(optimise, edit)
     assert not failures, failures
 
 
@@ -407,42 +415,30 @@ def test_inf_rows_are_dropped_like_nan_and_faces_are_checked():
 def test_an_edit_session_optimises_while_python_edits():
     """The paper's workflow from a notebook: the optimisation runs in the background while two
     threads edit and read it; then it finishes as vmas.skeletonize does."""
-    import threading
     points, normals = capsule_points(4000)
     with vmas.EditSession(points, normals, spheres=20, threads=1) as session:
         assert session.wait(0, timeout=10.0) > 0
-        failures = []
         stop = time.monotonic() + 10.0
 
         def edit():
             rng = np.random.default_rng(5)
-            try:
-                while time.monotonic() < stop:
-                    session.split_at(int(rng.integers(3000)))
-                    keys = session.snapshot()["keys"]
-                    if len(keys) > 3:
-                        try:
-                            session.remove(int(keys[rng.integers(len(keys))]))
-                        except vmas.InvalidArgument:
-                            pass  # gone meanwhile, or too many edits waiting
-                    time.sleep(0.01)
-            except Exception as e:  # noqa: BLE001
-                failures.append(e)
+            while time.monotonic() < stop:
+                session.split_at(int(rng.integers(3000)))
+                keys = session.snapshot()["keys"]
+                if len(keys) > 3:
+                    try:
+                        session.remove(int(keys[rng.integers(len(keys))]))
+                    except vmas.InvalidArgument:
+                        pass  # gone meanwhile, or too many edits waiting
+                time.sleep(0.01)
 
         def read():
-            try:
-                while time.monotonic() < stop:
-                    snap = session.snapshot()
-                    assert snap["medial_mesh"].centers.shape[0] == len(snap["keys"])
-                    assert snap["labels"].shape == (len(points),)
-            except Exception as e:  # noqa: BLE001
-                failures.append(e)
+            while time.monotonic() < stop:
+                snap = session.snapshot()
+                assert snap["medial_mesh"].centers.shape[0] == len(snap["keys"])
+                assert snap["labels"].shape == (len(points),)
 
-        threads = [threading.Thread(target=edit), threading.Thread(target=read)]
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join()
+        failures = run_in_threads(edit, read)
         assert not failures, failures
         session.finish()
         deadline = time.monotonic() + 120.0
