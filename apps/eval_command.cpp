@@ -112,7 +112,8 @@ int eval_command(int argc, const char* const* argv) {
   // A cloud may be open: how the reconstruction covers it and meets its openings.
   const OpeningReach openings = opening_reach(shape, result);
   const MedialTopology topology = medial_topology(medial);
-  const SurfaceGenus genus = surface_genus(shape);
+  const SurfaceGenus genus =
+      surface_genus(shape, shape.is_mesh() ? mesh_defects(shape.faces) : MeshDefects{});
   std::vector<OutputFile> files;  // written together
   if (!errors_path.empty()) {
     std::string text;

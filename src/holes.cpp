@@ -111,9 +111,8 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
   std::vector<Hole> holes;
   for (auto& [root, rim_of] : by_root) {
     const double width = rim_of.second.diagonal().norm();
-    const int size = static_cast<int>(rim_of.first.size());
-    if (size >= kMinRimPoints && width >= min_width)
-      holes.push_back({size, width, std::move(rim_of.first)});
+    if (static_cast<int>(rim_of.first.size()) >= kMinRimPoints && width >= min_width)
+      holes.push_back({width, std::move(rim_of.first)});
   }
   std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) {
     return a.width != b.width ? a.width > b.width : a.rim < b.rim;

@@ -5,13 +5,13 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <numeric>
 #include <unordered_map>
 #include <utility>
 
 #include "disjoint_sets.hpp"
 #include "edge_key.hpp"
-#include "vmas/clean.hpp"
 
 namespace vmas {
 
@@ -60,7 +60,7 @@ MedialTopology medial_topology(const MedialMesh& medial) {
     edge_id(e[0], e[1]);
     pieces.unite(e[0], e[1]);
   }
-  std::map<std::array<int, 3>, int> seen;  // each triangle once
+  std::set<std::array<int, 3>> seen;  // each triangle once
   Z2Reduction boundaries;
   // The triangles whose slabs reach out least (the smallest spread of their spheres' extents)
   // come last, so that a cavity is opened where its wall covers least.
@@ -88,7 +88,7 @@ MedialTopology medial_topology(const MedialMesh& medial) {
     std::array<int, 3> sorted = medial.faces[t];
     std::sort(sorted.begin(), sorted.end());
     if (sorted[0] == sorted[1] || sorted[1] == sorted[2]) continue;  // not a triangle
-    if (!seen.emplace(sorted, t).second) {
+    if (!seen.insert(sorted).second) {
       ++topology.duplicate_triangles;
       continue;
     }
@@ -111,19 +111,21 @@ MedialTopology medial_topology(const MedialMesh& medial) {
 }
 
 MedialMesh without_cavities(MedialMesh medial) {
-  const std::vector<int> closing = medial_topology(medial).closing_triangles;
-  for (auto t = closing.rbegin(); t != closing.rend(); ++t)
-    medial.faces.erase(medial.faces.begin() + *t);
+  std::vector<char> closing(medial.faces.size(), 0);
+  for (int t : medial_topology(medial).closing_triangles) closing[t] = 1;
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < medial.faces.size(); ++t)
+    if (!closing[t]) medial.faces[kept++] = medial.faces[t];
+  medial.faces.resize(kept);
   return medial;
 }
 
-SurfaceGenus surface_genus(const SurfaceInput& mesh) {
+SurfaceGenus surface_genus(const SurfaceInput& mesh, const MeshDefects& defects) {
   SurfaceGenus result;
   if (!mesh.is_mesh()) {
     result.why = "a point cloud (no faces)";
     return result;
   }
-  const MeshDefects defects = mesh_defects(mesh.faces);
   if (!defects.closed()) {
     result.why = defects.boundary_edges > 0       ? "the mesh is open"
                  : defects.non_manifold_edges > 0 ? "the mesh has non-manifold edges"

@@ -219,7 +219,7 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
   if (surface.points.empty()) throw InvalidInput("no usable points");
   result.seconds.clean = seconds_since(start);
   if (surface.is_mesh()) result.mesh_defects = mesh_defects(surface.faces);
-  result.input_genus = surface_genus(surface);
+  result.input_genus = surface_genus(surface, result.mesh_defects);
   const bool normals_given = !surface.is_mesh() && surface.has_normals() &&
                              !options.prepare.estimate_normals && !options.prepare.orient_normals;
   stage_done();

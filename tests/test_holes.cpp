@@ -42,7 +42,7 @@ TEST(Holes, ACapCutOffIsOneHoleAsWideAsTheCut) {
     const std::vector<Hole> holes = find_holes(open.points, open.normals);
     ASSERT_GE(holes.size(), 1u) << count;
     EXPECT_NEAR(holes.front().width, 1.2 * std::sqrt(2.0), 0.25) << count;
-    EXPECT_GE(holes.front().rim_points, 20) << count;
+    EXPECT_GE(holes.front().rim.size(), 20u) << count;
   }
 }
 

@@ -423,12 +423,16 @@ class InputMap {
   std::vector<int> stand_in_;   // of every cleaned point: its prepared point, or −1
 };
 
-// The shape prepared as vmas.skeletonize prepares it; Ctrl-C stops the preparation.
-PreparedShape prepared_for_python(SurfaceInput surface, const Options& options) {
+// The shape prepared as vmas.skeletonize prepares it, and `map` back to its input; Ctrl-C stops
+// the preparation.
+PreparedShape prepared_for_python(SurfaceInput surface, const Options& options, InputMap& map) {
+  const std::size_t rows = surface.points.size();
   PythonProgress watch{py::none()};
   try {
     py::gil_scoped_release released;
-    return prepare_shape(std::move(surface), options, std::ref(watch));
+    PreparedShape prepared = prepare_shape(std::move(surface), options, std::ref(watch));
+    map = InputMap(rows, prepared);
+    return prepared;
   } catch (const Cancelled&) {
     if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
     throw;
@@ -438,9 +442,7 @@ PreparedShape prepared_for_python(SurfaceInput surface, const Options& options) 
 class PythonSkeletonizer {
  public:
   PythonSkeletonizer(SurfaceInput surface, const Options& options) : threads_(options.threads) {
-    const std::size_t rows = surface.points.size();
-    PreparedShape prepared = prepared_for_python(std::move(surface), options);
-    map_ = InputMap(rows, prepared);
+    PreparedShape prepared = prepared_for_python(std::move(surface), options, map_);
     skeletonizer_ = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
   }
 
@@ -471,9 +473,7 @@ class PythonSkeletonizer {
 class PythonEditSession {
  public:
   PythonEditSession(SurfaceInput surface, const Options& options) {
-    const std::size_t rows = surface.points.size();
-    PreparedShape prepared = prepared_for_python(std::move(surface), options);
-    map_ = InputMap(rows, prepared);
+    PreparedShape prepared = prepared_for_python(std::move(surface), options, map_);
     FinishOptions finish = finish_as_skeletonize_does(prepared, options);
     session_ = std::make_unique<EditSession>(std::move(prepared.shape), prepared.run,
                                              options.threads, std::move(finish));

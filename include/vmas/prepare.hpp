@@ -37,9 +37,8 @@ struct NormalOptions {
 
 // A hole of a cloud: a rim where the sampling stops (src/holes.hpp).
 struct Hole {
-  int rim_points = 0;    // points found on its rim ...
   double width = 0.0;    // diagonal of the rim's bounding box (absolute)
-  std::vector<int> rim;  // ... their indices, ascending
+  std::vector<int> rim;  // indices of the points found on its rim, ascending
 };
 
 // Clouds with more points are thinned to about this many (coarse-to-fine, src/subsample.hpp).

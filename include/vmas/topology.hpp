@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "vmas/clean.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {
@@ -38,6 +39,7 @@ struct SurfaceGenus {
   std::vector<int> genus;  // per piece
   std::string why;         // when not known
 };
-SurfaceGenus surface_genus(const SurfaceInput& mesh);
+// `defects`: mesh_defects(mesh.faces), which the caller has already (ignored for a cloud).
+SurfaceGenus surface_genus(const SurfaceInput& mesh, const MeshDefects& defects);
 
 }  // namespace vmas

@@ -164,48 +164,42 @@ def test_progress_is_called_and_can_cancel():
         vmas.skeletonize(points, spheres=8, progress=fails)
 
 
-def test_ctrl_c_raises_keyboard_interrupt():
-    script = (
-        "import numpy as np, sys, time, vmas\n"
-        "p = np.random.default_rng(0).normal(size=(200000, 3))\n"
-        "print('go', flush=True)\n"
-        "try:\n"
-        "    vmas.skeletonize(p, spheres=3000, denoise='off')\n"
-        "except KeyboardInterrupt:\n"
-        "    print('interrupted', flush=True)\n")
+def interrupted_output(setup, call, after):
+    """What a child Python prints when Ctrl-C reaches `call` (code, after `setup`) `after`
+    seconds into it: 'interrupted' if it raised KeyboardInterrupt, 'finished' otherwise; and the
+    seconds from the signal to its end."""
+    script = ("import numpy as np, sys, time, vmas\n" + setup + "print('go', flush=True)\n"
+              "try:\n"
+              f"    {call}\n"
+              "    print('finished', flush=True)\n"
+              "except KeyboardInterrupt:\n"
+              "    print('interrupted', flush=True)\n")
     child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
                              env=dict(os.environ))
     assert child.stdout.readline().strip() == "go"
-    time.sleep(3.0)  # well into the run (3000 spheres take far longer)
+    time.sleep(after)
+    sent = time.monotonic()
     child.send_signal(signal.SIGINT)
     out, _ = child.communicate(timeout=60)
-    assert out.strip() == "interrupted", out
+    return out.strip(), time.monotonic() - sent
+
+
+def test_ctrl_c_raises_keyboard_interrupt():
+    out, _ = interrupted_output("p = np.random.default_rng(0).normal(size=(200000, 3))\n",
+                                "vmas.skeletonize(p, spheres=3000, denoise='off')",
+                                3.0)  # well into the run (3000 spheres take far longer)
+    assert out == "interrupted", out
 
 
 def test_ctrl_c_stops_a_skeletonizer_while_it_prepares():
     # A million points without normals: preparation alone takes seconds (thinning, outliers,
     # normals), and Ctrl-C must not wait for its end.
-    script = (
-        "import numpy as np, sys, time, vmas\n"
+    out, waited = interrupted_output(
         "p = np.random.default_rng(0).normal(size=(1000000, 3))\n"
         "p /= np.linalg.norm(p, axis=1)[:, None]\n"
-        "p += np.random.default_rng(1).normal(scale=0.01, size=p.shape)\n"
-        "print('go', flush=True)\n"
-        "start = time.monotonic()\n"
-        "try:\n"
-        "    vmas.Skeletonizer(p, spheres=50)\n"
-        "    print('finished', flush=True)\n"
-        "except KeyboardInterrupt:\n"
-        "    print('interrupted', flush=True)\n")
-    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
-                             env=dict(os.environ))
-    assert child.stdout.readline().strip() == "go"
-    time.sleep(0.5)
-    sent = time.monotonic()
-    child.send_signal(signal.SIGINT)
-    out, _ = child.communicate(timeout=60)
-    waited = time.monotonic() - sent
-    assert out.strip() == "interrupted", out
+        "p += np.random.default_rng(1).normal(scale=0.01, size=p.shape)\n",
+        "vmas.Skeletonizer(p, spheres=50)", 0.5)
+    assert out == "interrupted", out
     print(f"Ctrl-C while preparing answered in {waited:.2f} s")
 
 
