@@ -290,18 +290,24 @@ struct Pass {
   SkeletonizerState state;
 };
 
-// `prepared` carried into its working frame turned `turn` times: another start of the
-// optimisation, on the same prepared points.
-PreparedShape turned_copy(const PreparedShape& prepared, int turn, const Options& options) {
-  const auto start = Clock::now();
+// What another start needs of `prepared`: all but its shape, which the start builds in its own
+// frame (a copy would hold a third shape in memory while the starts run).
+PreparedShape without_shape(const PreparedShape& prepared) {
   PreparedShape copy;
   copy.result = prepared.result;
   copy.run = prepared.run;
   copy.surface = prepared.surface;
-  turn_working_frame(copy.result.prepare, copy.surface, turn);
-  copy.shape = build_shape(copy.surface, options.shape);
-  copy.result.seconds.shape = seconds_since(start);
   return copy;
+}
+
+// `prepared` (without its shape) carried into its working frame turned `turn` times: another
+// start of the optimisation, on the same prepared points.
+PreparedShape turned(PreparedShape prepared, int turn, const Options& options) {
+  const auto start = Clock::now();
+  turn_working_frame(prepared.result.prepare, prepared.surface, turn);
+  prepared.shape = build_shape(prepared.surface, options.shape);
+  prepared.result.seconds.shape = seconds_since(start);
+  return prepared;
 }
 
 // The optimisation, refinement and connectivity on `prepared`; `input_points`: the points of the
@@ -400,8 +406,8 @@ int thread_budget(int threads) {
 // each, the starts run side by side (the optimisation's serial parts leave cores idle: two starts
 // took 1.3-1.5 times one start's time, against 2 one after the other); the calling thread runs
 // the first and reports its progress, and the others stop when it is cancelled.
-Pass best_of_starts(const PreparedShape& prepared, std::size_t input_points,
-                    const Options& options, const ProgressCallback& progress) {
+Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Options& options,
+                    const ProgressCallback& progress) {
   const int threads = thread_budget(options.threads);
   const bool side_by_side = options.starts > 1 && threads >= options.starts;
   const int threads_per_start = side_by_side ? threads / options.starts : threads;
@@ -410,10 +416,14 @@ Pass best_of_starts(const PreparedShape& prepared, std::size_t input_points,
     Pass pass;
     double seconds = 0.0;
   };
+  // The first start runs on `prepared` itself, so the others take their copies first.
+  std::vector<PreparedShape> sources;
+  for (int start = 1; start < options.starts; ++start) sources.push_back(without_shape(prepared));
   const auto run_start = [&](int start, const ProgressCallback& report) {
     const ThreadCount count(threads_per_start);
     const auto start_time = Clock::now();
-    Run run{run_pass(start == 0 ? prepared : turned_copy(prepared, start, options),
+    Run run{run_pass(start == 0 ? std::move(prepared)
+                                : turned(std::move(sources[start - 1]), start, options),
                      input_points, options, report)};
     run.seconds = seconds_since(start_time);
     return run;
@@ -596,7 +606,13 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   const auto start = Clock::now();
   const bool may_check =
       options.prepare.denoise == PrepareOptions::Denoise::Auto && !input.is_mesh();
-  Pass pass = best_start(input, options, progress);
+  const std::size_t input_points = input.points.size();
+  PreparedShape prepared =
+      prepare_with_progress(may_check ? input : std::move(input), options, progress);
+  // Only the check of a smoothing reads the input again: otherwise its memory goes now (on a big
+  // cloud it is more than the run's).
+  if (!(may_check && prepared.result.prepare.smoothed())) input = SurfaceInput{};
+  Pass pass = best_of_starts(std::move(prepared), input_points, options, progress);
   if (may_check && pass.result.prepare.smoothed()) {
     const double smoothed_seconds = seconds_since(start);
     const auto judging_start = Clock::now();
