@@ -1,7 +1,7 @@
 // `vmas edit`: the live skeleton editor. One EditSession optimises in a worker thread; a local
 // HTTP server (apps/http_server: Boost.Beast) serves the page (three.js from Debian's libjs-three),
 // the shape once, the state as server-sent events, and takes edits as POSTed JSON. The protocol is
-// documented in the README ("Editing a skeleton").
+// documented in docs/editor.md.
 #include <signal.h>
 
 #include <algorithm>

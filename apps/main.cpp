@@ -25,7 +25,8 @@ constexpr const char* kUsage =
     "       vmas --version\n";
 
 // The live editor is a program of its own, vmas-edit, installed beside vmas: its HTTP server's
-// libraries (cpp-httplib, with OpenSSL and Brotli) took 8 ms to load, on every start of vmas.
+// libraries (Boost.Beast's, and those the editor needs) would otherwise load on every start of
+// vmas, which most runs do not use.
 // Returns only when it cannot be started.
 int start_editor(int argc, char** argv) {
   std::error_code error;

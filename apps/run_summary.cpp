@@ -7,7 +7,7 @@
 namespace vmas::cli {
 namespace {
 
-// Lengths in % of the diagonal, two significant digits; seconds to the millisecond.
+// Lengths in % of the diagonal to two decimals; seconds to the millisecond.
 double percent_of(double length, double diagonal) {
   return diagonal > 0.0 ? std::round(1e4 * length / diagonal) / 1e2 : 0.0;
 }

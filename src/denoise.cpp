@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -241,13 +242,13 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
 
 void DenoiseOptions::validate() const {
   if (!(clean_fraction_of_spacing >= 0.0 && clean_fraction_of_spacing <= 100.0))
-    throw InvalidOption("clean fraction of the spacing must be in [0, 100]");
+    throw InvalidOption("clean_fraction_of_spacing", "must be in [0, 100]");
   if (!(mls_radius_in_sigmas > 0.0 && mls_radius_in_sigmas <= 100.0))
-    throw InvalidOption("MLS radius must be in (0, 100] smoothing scales");
+    throw InvalidOption("mls_radius_in_sigmas", "must be in (0, 100] smoothing scales");
   if (outlier_k < 2 || outlier_k > 200)
-    throw InvalidOption("outlier k must be between 2 and 200 (got " + std::to_string(outlier_k) +
-                        ")");
-  if (!(outlier_deviations > 0.0)) throw InvalidOption("outlier deviations must be positive");
+    throw InvalidOption("outlier_k",
+                        "must be between 2 and 200 (got " + std::to_string(outlier_k) + ")");
+  if (!(outlier_deviations > 0.0)) throw InvalidOption("outlier_deviations", "must be positive");
 }
 
 bool is_noisy(const NoiseEstimate& noise, const DenoiseOptions& options) {
@@ -389,7 +390,7 @@ class MlsSurfaces {
   // Fits at every centroid, or only at those nearest to points[i] for i in `only` when given:
   // each fit depends on its neighbourhood alone, so those are the fits of the whole surface.
   MlsSurfaces(const std::vector<Vec3>& points, double radius, const std::vector<int>* only) {
-    if (!(radius > 0.0)) throw InvalidOption("MLS radius must be positive");
+    if (!(radius > 0.0)) throw std::logic_error("MlsSurfaces: the radius must be positive");
     constexpr double kFitsPerRadius = 6.0;        // voxel size of the fitting cloud: radius / this
     constexpr double kMaxVoxelsPerAxis = 1000.0;  // keeps VoxelGrid's integer keys from overflowing
     const auto cloud = centred_cloud(points, centroid_);
@@ -695,7 +696,7 @@ void restore_smoothing_bias(std::vector<Vec3>& smoothed, const std::vector<Vec3>
 }
 
 double mls_deviation(const std::vector<Vec3>& points, double radius, int samples) {
-  if (samples < 1) throw InvalidOption("MLS deviation needs at least one sample");
+  if (samples < 1) throw std::logic_error("mls_deviation: needs at least one sample");
   if (points.empty()) return 0.0;
   std::vector<int> measured;
   const std::size_t stride = std::max<std::size_t>(1, points.size() / samples);

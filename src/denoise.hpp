@@ -1,8 +1,8 @@
 #pragma once
 // Scan noise: how much there is (a robust scale of the residuals to local quadric fits), and
-// its removal before normals and skeleton are computed: statistical outlier removal and
-// moving-least-squares projection (both from PCL) for clouds, smoothing along the faces for
-// meshes.
+// its removal before normals and skeleton are computed: statistical outlier removal (PCL's rule,
+// computed over vmas's own neighbour searches) and moving-least-squares projection (PCL's) for
+// clouds, smoothing along the faces for meshes.
 #include <array>
 #include <vector>
 

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <mutex>
 #include <random>
+#include <stdexcept>
 
 #include "io_internal.hpp"
 #include "vmas/io.hpp"
@@ -276,7 +277,7 @@ void check_distinct_files(const std::vector<std::string>& inputs,
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
   if (static_cast<int>(files.size()) > kMaxFiles)
-    throw InvalidOption("write_files_atomically: at most 16 files at once");
+    throw std::logic_error("write_files_atomically: at most 16 files at once");
   std::vector<std::string> targets;
   for (const OutputFile& file : files) targets.push_back(checked_target(file.path));
   const std::lock_guard<std::mutex> lock(g_writing);

@@ -50,8 +50,8 @@ constexpr double kMinRadius = 1e-6;
 }  // namespace
 void ShrinkingBallOptions::validate() const {
   if (max_iterations < 1 || max_iterations > 1000)
-    throw InvalidOption("shrinking-ball iterations must be between 1 and 1000 (got " +
-                        std::to_string(max_iterations) + ")");
+    throw InvalidOption("max_iterations", "must be between 1 and 1000 (got " +
+                                              std::to_string(max_iterations) + ")");
   if (!(tolerance >= 0.0 && tolerance < 0.1))
     throw InvalidOption("tolerance",
                         "must be in [0, 0.1) (got " + std::to_string(tolerance) + ")");
@@ -59,11 +59,11 @@ void ShrinkingBallOptions::validate() const {
     throw InvalidOption("enclosure", "must be finite or negative (got " +
                                          std::to_string(enclosure) + ")");
   if (!(box_margin >= 0.0 && box_margin <= 1.0))
-    throw InvalidOption("shrinking-ball box margin must be in [0, 1] (got " +
-                        std::to_string(box_margin) + ")");
+    throw InvalidOption("box_margin",
+                        "must be in [0, 1] (got " + std::to_string(box_margin) + ")");
   if (!(initial_radius > 0.0 && initial_radius <= 100.0))
-    throw InvalidOption("shrinking-ball initial radius must be in (0, 100] (got " +
-                        std::to_string(initial_radius) + ")");
+    throw InvalidOption("initial_radius",
+                        "must be in (0, 100] (got " + std::to_string(initial_radius) + ")");
   if (!(denoise_angle_deg >= 0.0 && denoise_angle_deg < 180.0))
     throw InvalidOption("denoise_angle_deg", "must be in [0, 180) degrees (got " +
                                              std::to_string(denoise_angle_deg) + ")");

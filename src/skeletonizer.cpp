@@ -46,8 +46,8 @@ void SkeletonizerOptions::validate() const {
                         "must be in [0, 1) (got " + std::to_string(convergence) + ")");
   if (split_interval < 1) throw InvalidOption("split_interval", "must be at least 1");
   if (settle_iterations < 0 || max_settle_iterations < settle_iterations)
-    throw InvalidOption("settle iterations must be in [0, max settle iterations]");
-  if (min_cluster_size < 1) throw InvalidOption("min cluster size must be at least 1");
+    throw InvalidOption("settle_iterations", "must be in [0, max_settle_iterations]");
+  if (min_cluster_size < 1) throw InvalidOption("min_cluster_size", "must be at least 1");
   internal::validate_member("update", update);
   internal::validate_member("shrinking_ball", shrinking_ball);
   internal::validate_member("split", split);

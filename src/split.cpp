@@ -10,9 +10,9 @@ namespace vmas {
 
 void SplitOptions::validate() const {
   if (!(max_fraction > 0.0 && max_fraction <= 1.0))
-    throw InvalidOption("split fraction must be in (0, 1] (got " + std::to_string(max_fraction) +
-                        ")");
-  if (large_count_share < 1) throw InvalidOption("split share of a large count must be at least 1");
+    throw InvalidOption("max_fraction",
+                        "must be in (0, 1] (got " + std::to_string(max_fraction) + ")");
+  if (large_count_share < 1) throw InvalidOption("large_count_share", "must be at least 1");
   if (max_per_round < 1)
     throw InvalidOption("max_per_round",
                         "must be at least 1 (got " + std::to_string(max_per_round) + ")");

@@ -253,7 +253,7 @@ TEST(DenoiseMls, DeviationAtSamplesIsTheSmoothingsOwnAtThosePoints) {
   const double sampled = mls_deviation(noisy, 0.1, 2400);
   EXPECT_NEAR(sampled, whole, 0.05 * whole);
   EXPECT_GT(sampled, 0.6 * 0.015);
-  EXPECT_THROW(mls_deviation(noisy, 0.1, 0), InvalidOption);
+  EXPECT_THROW(mls_deviation(noisy, 0.1, 0), std::logic_error);
 }
 
 // Fraction of prepared normals that agree in sign with the true ones of the points they came

@@ -320,6 +320,33 @@ TEST(OneCall, OptionErrorsNameTheOption) {
   EXPECT_THROW(skeletonize(cloud, options), InvalidOption);
 }
 
+// Every option struct's own checks name their field, so each reaches the caller as a path.
+TEST(OneCall, EveryNestedOptionErrorNamesItsField) {
+  const auto path_of = [](const Options& options) {
+    try {
+      options.validate();
+    } catch (const InvalidOption& e) {
+      return e.option();
+    }
+    return std::string("(valid)");
+  };
+  Options options;
+  options.run.split.max_fraction = 2.0;
+  EXPECT_EQ(path_of(options), "run.split.max_fraction");
+  options = Options();
+  options.run.update.max_iterations = 0;
+  EXPECT_EQ(path_of(options), "run.update.max_iterations");
+  options = Options();
+  options.run.shrinking_ball.box_margin = -1.0;
+  EXPECT_EQ(path_of(options), "run.shrinking_ball.box_margin");
+  options = Options();
+  options.run.min_cluster_size = 0;
+  EXPECT_EQ(path_of(options), "run.min_cluster_size");
+  options = Options();
+  options.prepare.noise.outlier_k = 1;
+  EXPECT_EQ(path_of(options), "prepare.noise.outlier_k");
+}
+
 TEST(OneCall, DefaultsToTheCliSphereCountAndHonoursAnErrorThreshold) {
   const SurfaceInput cloud = capsule_cloud();
   EXPECT_EQ(skeletonize(cloud).medial_mesh.spheres.size(), std::size_t(kDefaultSpheres));

@@ -24,7 +24,7 @@
 
 namespace vmas {
 
-// "0.2.0": the version of the library this program runs with.
+// The version of the library this program runs with (e.g. "0.4.0": project()'s VERSION in CMakeLists.txt).
 const char* version();
 
 // Every option of `vmas skeletonize`, with its defaults.

@@ -125,19 +125,19 @@ void find_hiders(const Envelope& envelope, const FreshPrimitives& fresh_solids,
 
 void EvalOptions::validate() const {
   if (surface_samples < -1) {
-    throw InvalidOption("surface_samples must be -1 (as many as vertices) or >= 0");
+    throw InvalidOption("surface_samples", "must be -1 (as many as vertices) or >= 0");
   }
   if (!(boundary_spacing >= 1e-4 && boundary_spacing <= 0.1)) {
-    throw InvalidOption("boundary_spacing must be in [1e-4, 0.1] (fraction of the diagonal)");
+    throw InvalidOption("boundary_spacing", "must be in [1e-4, 0.1] (fraction of the diagonal)");
   }
   if (refined_samples < 1 || refined_samples > 100000) {
-    throw InvalidOption("refined_samples must be in [1, 100000]");
+    throw InvalidOption("refined_samples", "must be in [1, 100000]");
   }
   if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
-    throw InvalidOption("inside_tolerance must be in [0, 0.01] (fraction of the diagonal)");
+    throw InvalidOption("inside_tolerance", "must be in [0, 0.01] (fraction of the diagonal)");
   }
   if (max_input_points > 0 && !maxima_only) {
-    throw InvalidOption("max_input_points needs maxima_only (vertex_error has every point)");
+    throw InvalidOption("max_input_points", "needs maxima_only (vertex_error has every point)");
   }
 }
 
