@@ -229,6 +229,8 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     return evaluator(medial);
   };
   EvalResult best = measure();
+  // A move that fails is undone: the next one is measured against the best state's primitives.
+  evaluator.keep_memory();
   MedialMesh best_medial = medial;
   const int best_components = components;
   report.error_before = best.hausdorff;
@@ -274,6 +276,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     }
     if (!better(trial)) {
       skeletonizer.restore(best_state);
+      evaluator.restore_memory();
       if (switch_aim()) continue;
       break;
     }
@@ -283,6 +286,7 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     best = std::move(trial);
     best_medial = medial;
     best_state = skeletonizer.state();
+    evaluator.keep_memory();
     ++report.kept;
     small_gains = small_gain ? small_gains + 1 : 0;
     aim_uncovered = aims_at_uncovered(best);

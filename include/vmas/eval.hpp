@@ -82,8 +82,14 @@ class Evaluator {
   ~Evaluator();
   Evaluator(const Evaluator&) = delete;
   Evaluator& operator=(const Evaluator&) = delete;
-  // Throws as evaluate() does for the medial mesh.
+  // Throws as evaluate() does for the medial mesh. What it measured of each primitive is re-used
+  // for the same primitive in the next call (results do not depend on what was measured before).
   EvalResult operator()(const MedialMesh& medial);
+  // Sets aside what the last call measured, and puts it back: a caller that returns to an earlier
+  // medial mesh (a refinement undoing a move) measures the next one as fast as if it had measured
+  // nothing since.
+  void keep_memory();
+  void restore_memory();
   // The distance of each query to the shape, as the medial -> surface side measures it (a
   // mesh's faces; a cloud's points, or their tangent discs with cloud_as_discs).
   std::vector<double> distances_to_shape(const std::vector<Vec3>& queries) const;

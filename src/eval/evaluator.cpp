@@ -158,9 +158,13 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
   double diagonal = 0.0;
   std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
   ShapeDistance distance;     // medial -> surface
-  SurfaceSideCache surface_cache;
-  std::unordered_map<std::uint64_t, PieceSamples> boundary_cache;  // by piece key
-  std::unordered_set<std::uint64_t> solids;  // keys of every solid of the last reconstruction
+  // What the last measurement left to re-use, and what keep_memory() set aside.
+  struct Memory {
+    SurfaceSideCache surface;
+    std::unordered_map<std::uint64_t, PieceSamples> boundary;  // by piece key
+    std::unordered_set<std::uint64_t> solids;  // keys of every solid of the reconstruction
+  };
+  Memory memory, kept;
 };
 
 namespace {
@@ -198,6 +202,10 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
 
 Evaluator::~Evaluator() = default;
 
+void Evaluator::keep_memory() { impl_->kept = impl_->memory; }
+
+void Evaluator::restore_memory() { impl_->memory = impl_->kept; }
+
 std::vector<double> Evaluator::distances_to_shape(const std::vector<Vec3>& queries) const {
   return impl_->distance(queries);
 }
@@ -210,23 +218,23 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
 // A sample whose nearest piece is still there is at most as far as before, and only the new
 // pieces can be nearer.
 const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope) {
-  const bool reuse = !surface_cache.distance.empty();
+  const bool reuse = !memory.surface.distance.empty();
   FreshPrimitives fresh_pieces;
   if (reuse)
     find_fresh(
-        envelope.piece_count(), surface_cache.pieces,
+        envelope.piece_count(), memory.surface.pieces,
         [&](int id) { return envelope.piece_key(id); },
         [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
   std::unordered_set<std::uint64_t> pieces_now;
   for (int id = 0; id < envelope.piece_count(); ++id) pieces_now.insert(envelope.piece_key(id));
-  surface_cache.distance.resize(samples.size());
-  surface_cache.nearest.resize(samples.size());
+  memory.surface.distance.resize(samples.size());
+  memory.surface.nearest.resize(samples.size());
   const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::ptrdiff_t i = 0; i < sample_count; ++i) {
     const Vec3& p = samples[i];
-    double& d = surface_cache.distance[i];
-    std::uint64_t& nearest = surface_cache.nearest[i];
+    double& d = memory.surface.distance[i];
+    std::uint64_t& nearest = memory.surface.nearest[i];
     if (reuse && pieces_now.count(nearest)) {
       int item = -1;
       const double fresh = fresh_pieces.tree->nearest(
@@ -242,8 +250,8 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
       nearest = envelope.piece_key(piece);
     }
   }
-  surface_cache.pieces = std::move(pieces_now);
-  return surface_cache.distance;
+  memory.surface.pieces = std::move(pieces_now);
+  return memory.surface.distance;
 }
 
 // The uniform samples of a piece that was already there keep their distance, and their hider
@@ -252,7 +260,7 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
                                     BoundarySamples& boundary, std::vector<double>& to_surface) {
   FreshPrimitives fresh_solids;
   find_fresh(
-      envelope.solid_count(), solids, [&](int id) { return envelope.solid_key(id); },
+      envelope.solid_count(), memory.solids, [&](int id) { return envelope.solid_key(id); },
       [&](int id) { return envelope.solid_box(id); }, fresh_solids);
   std::unordered_set<std::uint64_t> solids_now;
   for (int id = 0; id < envelope.solid_count(); ++id) solids_now.insert(envelope.solid_key(id));
@@ -266,8 +274,8 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
     // Two coincident spheres give identical pieces: their samples are looked at once (a sample
     // on one is not inside the other).
     if (!first) continue;
-    const auto known = boundary_cache.find(key);
-    if (known != boundary_cache.end()) {
+    const auto known = memory.boundary.find(key);
+    if (known != memory.boundary.end()) {
       entry->second = std::move(known->second);
     } else {
       BoundarySamples sampled;
@@ -301,8 +309,8 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
   for (std::size_t k = 0; k < slots.size(); ++k) *slots[k] = measured[k];
   to_surface.resize(distances.size());
   for (std::size_t i = 0; i < distances.size(); ++i) to_surface[i] = *distances[i];
-  boundary_cache = std::move(pieces);
-  solids = std::move(solids_now);
+  memory.boundary = std::move(pieces);
+  memory.solids = std::move(solids_now);
 }
 
 namespace {
