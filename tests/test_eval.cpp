@@ -566,6 +566,35 @@ TEST(Eval, AnEvaluatorMeasuringOneChangeAfterAnotherMatchesFreshEvaluations) {
   EXPECT_DOUBLE_EQ(at_worst, full.surface_to_medial_max);
 }
 
+// With maxima_only, the evaluator searches exactly only the distances near the last maxima, and
+// measures again when the maxima drop below that; returning to a kept state re-uses its
+// measurements. Neither changes a figure.
+TEST(Eval, MaximaAreExactWhateverWasMeasuredBeforeOrKept) {
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 3);
+  MedialMesh exact;  // the sphere's own medial sphere: a tiny error after large ones
+  exact.spheres.push_back({Vec3::Zero(), 0.999});
+  MedialMesh shifted = random_medial(5);
+  shifted.spheres[0].center.x() += 0.05;
+  const std::vector<MedialMesh> sequence{random_medial(5), exact, random_medial(5), shifted,
+                                         random_medial(5), exact};
+  EvalOptions options;
+  options.boundary_spacing = 0.01;
+  options.maxima_only = true;
+  EvalOptions everything = options;
+  everything.maxima_only = false;
+  Evaluator evaluator(mesh, options);
+  for (std::size_t k = 0; k < sequence.size(); ++k) {
+    if (k == 1) evaluator.keep_memory();  // the state after sequence[0]
+    if (k == 4) evaluator.restore_memory();
+    const EvalResult measured = evaluator(sequence[k]);
+    const EvalResult all = evaluate(mesh, sequence[k], everything);
+    EXPECT_EQ(measured.surface_to_medial_max, all.surface_to_medial_max) << k;
+    EXPECT_EQ(measured.medial_to_surface_max, all.medial_to_surface_max) << k;
+    EXPECT_EQ(measured.surface_to_medial_worst, all.surface_to_medial_worst) << k;
+    EXPECT_EQ(measured.medial_to_surface_worst, all.medial_to_surface_worst) << k;
+  }
+}
+
 // Coincident spheres give identical primitives: measured once, but counted as fresh evaluation
 // counts them.
 TEST(Eval, AnEvaluatorHandlesCoincidentSpheresAsFreshEvaluationsDo) {

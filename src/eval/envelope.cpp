@@ -203,10 +203,10 @@ double Envelope::piece_distance(int id, const Vec3& p) const {
   return point_triangle_distance(p, t[0], t[1], t[2]);
 }
 
-double Envelope::nearest_piece(const Vec3& p, int& piece) const {
+double Envelope::nearest_piece(const Vec3& p, int& piece, double stop_below) const {
   piece = -1;
   return piece_tree_->nearest(
-      p, [&](int id) { return piece_distance(id, p); }, -kInfinity, &piece);
+      p, [&](int id) { return piece_distance(id, p); }, stop_below, &piece);
 }
 
 double Envelope::solid_signed_distance(int id, const Vec3& p) const {

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -21,8 +22,9 @@ namespace internal {
 // What the last measured reconstruction left to reuse: distances and visibility depend only on
 // the primitives involved, which are recognised by their keys (Envelope::piece_key, solid_key).
 struct SurfaceSideCache {                    // surface -> medial
-  std::vector<double> distance;              // of every surface sample, exact
+  std::vector<double> distance;              // of every surface sample (see `exact`)
   std::vector<std::uint64_t> nearest;        // the key of the piece at that distance
+  std::vector<char> exact;  // whether `distance` is the least; if not, it bounds it from above
   std::unordered_set<std::uint64_t> pieces;  // keys of every piece then
 };
 
@@ -32,7 +34,7 @@ constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();  // a
 struct PieceSamples {  // medial -> surface: the uniform samples of one boundary piece
   std::vector<Vec3> points;
   std::vector<std::uint64_t> hider;  // key of a solid the sample is hidden in; kNone, kUnknown
-  std::vector<double> distance;      // to the input, exact; NaN until needed
+  std::vector<double> distance;      // to the input; NaN until needed; -d: at most d, not exact
 };
 
 }  // namespace internal
@@ -49,6 +51,15 @@ using internal::SurfaceSideCache;
 
 namespace {
 
+// With maxima_only, a distance is searched exactly only from this share of the last maximum up
+// (of the least of the largest boundary distances, which the maximum is refined around).
+constexpr double kStopShare = 0.5;
+// Without a last measurement, the maxima are estimated from every this many samples (the
+// estimates are at most the maxima: the share of them is a threshold that is safe to use).
+constexpr std::size_t kEstimateStride = 16;
+// A `below` of the boundary side that asks for such an estimate.
+constexpr double kEstimate = -1.0;
+
 // Boundary samples of one measurement at most (a few hundred bytes each while measured).
 constexpr double kMaxBoundarySamples = 5e5;
 
@@ -59,6 +70,25 @@ std::pair<double, double> max_and_mean(const std::vector<double>& values) {
     sum += v;
   }
   return {max, values.empty() ? 0.0 : sum / static_cast<double>(values.size())};
+}
+
+// The least of the `count` largest values (of all values when there are fewer); 0 for none.
+double least_of_largest(std::vector<double> values, std::size_t count) {
+  if (values.empty() || count == 0) return 0.0;
+  count = std::min(count, values.size());
+  std::nth_element(values.begin(), values.begin() + (count - 1), values.end(),
+                   std::greater<double>());
+  return values[count - 1];
+}
+
+// The largest distance of every kEstimateStride-th sample to the pieces of `envelope`.
+double sparse_maximum(const Envelope& envelope, const std::vector<Vec3>& samples) {
+  const auto strides = static_cast<std::ptrdiff_t>(samples.size() / kEstimateStride);
+  double largest = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : largest)
+  for (std::ptrdiff_t k = 0; k < strides; ++k)
+    largest = std::max(largest, envelope.boundary_distance(samples[k * kEstimateStride]));
+  return largest;
 }
 
 // The point with the largest value (the first of equals); the origin when there is none.
@@ -146,11 +176,15 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
   Impl(const SurfaceInput& shape, const EvalOptions& options)
       : options(options), shape(shape), distance(shape, options.cloud_as_discs) {}
 
-  // Surface -> medial distance of every sample, exact.
-  const std::vector<double>& surface_side(const Envelope& envelope);
+  // Surface -> medial distance of every sample: exact where it is `below` or more, and under
+  // `below` elsewhere (an upper bound of it, which is all the maximum needs when it is `below` or
+  // more).
+  const std::vector<double>& surface_side(const Envelope& envelope, double below);
   // Medial -> surface at the visible uniform samples `spacing` apart: their points and pieces,
-  // and their distances to the input.
-  void boundary_side(const Envelope& envelope, double spacing, double tolerance,
+  // and their distances to the input: exact where `below` or more, and under `below` elsewhere
+  // (an upper bound of it). kEstimate: `below` is a share of the least of the refined_samples
+  // largest distances of a few samples.
+  void boundary_side(const Envelope& envelope, double spacing, double tolerance, double below,
                      BoundarySamples& boundary, std::vector<double>& to_surface);
 
   EvalOptions options;
@@ -165,6 +199,9 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
     std::unordered_set<std::uint64_t> solids;  // keys of every solid of the reconstruction
   };
   Memory memory, kept;
+  // Of the last measurement: the surface side's maximum, the least of the boundary distances
+  // that were refined.
+  double last_surface_max = 0.0, last_refined_least = 0.0;
 };
 
 namespace {
@@ -217,7 +254,8 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
 
 // A sample whose nearest piece is still there is at most as far as before, and only the new
 // pieces can be nearer.
-const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope) {
+const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope,
+                                                          double below) {
   const bool reuse = !memory.surface.distance.empty();
   FreshPrimitives fresh_pieces;
   if (reuse)
@@ -227,37 +265,50 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
         [&](int id) { return envelope.piece_box(id); }, fresh_pieces);
   std::unordered_set<std::uint64_t> pieces_now;
   for (int id = 0; id < envelope.piece_count(); ++id) pieces_now.insert(envelope.piece_key(id));
-  memory.surface.distance.resize(samples.size());
-  memory.surface.nearest.resize(samples.size());
+  SurfaceSideCache& cache = memory.surface;
+  cache.distance.resize(samples.size());
+  cache.nearest.resize(samples.size());
+  cache.exact.resize(samples.size());
+  // The nearest piece, or one nearer than `stop_below`.
+  const auto search = [&](std::ptrdiff_t i, double stop_below) {
+    int piece = -1;
+    cache.distance[i] = envelope.nearest_piece(samples[i], piece, stop_below);
+    cache.nearest[i] = envelope.piece_key(piece);
+    cache.exact[i] = !(cache.distance[i] < stop_below);
+  };
   const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::ptrdiff_t i = 0; i < sample_count; ++i) {
+    if (!(reuse && pieces_now.count(cache.nearest[i]))) {
+      search(i, below);
+      continue;
+    }
     const Vec3& p = samples[i];
-    double& d = memory.surface.distance[i];
-    std::uint64_t& nearest = memory.surface.nearest[i];
-    if (reuse && pieces_now.count(nearest)) {
-      int item = -1;
-      const double fresh = fresh_pieces.tree->nearest(
-          p, [&](int k) { return envelope.piece_distance(fresh_pieces.ids[k], p); }, -kInfinity,
-          &item);
-      if (fresh < d) {
-        d = fresh;
-        nearest = envelope.piece_key(fresh_pieces.ids[item]);
-      }
-    } else {
-      int piece = -1;
-      d = envelope.nearest_piece(p, piece);
-      nearest = envelope.piece_key(piece);
+    double& d = cache.distance[i];
+    int item = -1;
+    const double fresh = fresh_pieces.tree->nearest(
+        p, [&](int k) { return envelope.piece_distance(fresh_pieces.ids[k], p); }, below, &item);
+    if (fresh < d) {
+      d = fresh;
+      cache.nearest[i] = envelope.piece_key(fresh_pieces.ids[item]);
+    }
+    // Below `below` a bound will do; above it only an exact distance (the fresh pieces were all
+    // searched: none stopped the search early).
+    if (d < below) {
+      cache.exact[i] = false;
+    } else if (!cache.exact[i]) {
+      search(i, below);
     }
   }
-  memory.surface.pieces = std::move(pieces_now);
-  return memory.surface.distance;
+  cache.pieces = std::move(pieces_now);
+  return cache.distance;
 }
 
 // The uniform samples of a piece that was already there keep their distance, and their hider
 // while it is there.
 void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, double tolerance,
-                                    BoundarySamples& boundary, std::vector<double>& to_surface) {
+                                    double below, BoundarySamples& boundary,
+                                    std::vector<double>& to_surface) {
   FreshPrimitives fresh_solids;
   find_fresh(
       envelope.solid_count(), memory.solids, [&](int id) { return envelope.solid_key(id); },
@@ -297,18 +348,28 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
       boundary.pieces.push_back(piece);
       distances.push_back(&entry->distance[j]);
     }
-  std::vector<Vec3> unmeasured;  // visible samples without a distance yet, each once
+  // Visible samples without a distance yet, or with a bound that no longer does, each once.
+  std::vector<Vec3> unmeasured;
   std::vector<double*> slots;
   for (auto& [key, entry] : pieces)
     for (std::size_t j = 0; j < entry.points.size(); ++j) {
-      if (entry.hider[j] != kNone || !std::isnan(entry.distance[j])) continue;
+      const double known = entry.distance[j];
+      if (entry.hider[j] != kNone || known >= 0.0 || -known < below) continue;
       unmeasured.push_back(entry.points[j]);
       slots.push_back(&entry.distance[j]);
     }
-  const std::vector<double> measured = distance(unmeasured);
-  for (std::size_t k = 0; k < slots.size(); ++k) *slots[k] = measured[k];
+  if (below == kEstimate) {
+    std::vector<Vec3> some;
+    for (std::size_t k = 0; k < unmeasured.size(); k += kEstimateStride)
+      some.push_back(unmeasured[k]);
+    below = kStopShare *
+            least_of_largest(distance(some), static_cast<std::size_t>(options.refined_samples));
+  }
+  const std::vector<double> measured = distance(unmeasured, below);
+  for (std::size_t k = 0; k < slots.size(); ++k)
+    *slots[k] = measured[k] < below ? -measured[k] : measured[k];
   to_surface.resize(distances.size());
-  for (std::size_t i = 0; i < distances.size(); ++i) to_surface[i] = *distances[i];
+  for (std::size_t i = 0; i < distances.size(); ++i) to_surface[i] = std::abs(*distances[i]);
   memory.boundary = std::move(pieces);
   memory.solids = std::move(solids_now);
 }
@@ -360,7 +421,15 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   const Envelope envelope(medial);
   EvalResult result;
   result.diagonal = impl_->diagonal;
-  const std::vector<double>& to_medial = impl_->surface_side(envelope);
+  // Only the maximum is wanted: samples stop at the first piece nearer than a share of the last
+  // maximum, and are measured again exactly in the rare case that the maximum is below that.
+  double below = options.maxima_only ? kStopShare * impl_->last_surface_max : 0.0;
+  if (options.maxima_only && impl_->last_surface_max == 0.0)
+    below = kStopShare * sparse_maximum(envelope, impl_->samples);
+  const std::vector<double>* surface_side = &impl_->surface_side(envelope, below);
+  if (below > 0.0 && max_and_mean(*surface_side).first < below)
+    surface_side = &impl_->surface_side(envelope, 0.0);
+  const std::vector<double>& to_medial = *surface_side;
 
   // Medial -> surface: the uniform samples give the mean, the maximum is refined around them.
   const double tolerance = options.inside_tolerance * result.diagonal;
@@ -369,9 +438,26 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // are sampled more coarsely (the counts grow as 1 / spacing²).
   const double expected = envelope.sample_count(spacing);
   if (expected > kMaxBoundarySamples) spacing *= std::sqrt(expected / kMaxBoundarySamples);
+  // Only the largest distances are refined (refined_samples of them): the others stop at a
+  // share of the last measurement's smallest of those, and are measured again exactly in the
+  // rare case that fewer are above it.
+  const std::size_t refined = static_cast<std::size_t>(options.refined_samples);
+  // (With no last measurement: estimated from a few samples.)
+  const double boundary_below =
+      !options.maxima_only                ? 0.0
+      : impl_->last_refined_least > 0.0 ? kStopShare * impl_->last_refined_least
+                                        : kEstimate;
   BoundarySamples boundary;
   std::vector<double> to_surface;
-  impl_->boundary_side(envelope, spacing, tolerance, boundary, to_surface);
+  impl_->boundary_side(envelope, spacing, tolerance, boundary_below, boundary, to_surface);
+  if (boundary_below > 0.0 &&
+      static_cast<std::size_t>(std::count_if(to_surface.begin(), to_surface.end(), [&](double d) {
+        return d >= boundary_below;
+      })) < std::min(refined, to_surface.size())) {
+    boundary = {};
+    impl_->boundary_side(envelope, spacing, tolerance, 0.0, boundary, to_surface);
+  }
+  impl_->last_refined_least = least_of_largest(to_surface, refined);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
   result.boundary_sample_count = boundary.points.size();
@@ -380,6 +466,7 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
 
   std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
   result.surface_to_medial_worst = worst_point(impl_->samples, to_medial);
+  impl_->last_surface_max = result.surface_to_medial_max;
   result.hausdorff = std::max(result.surface_to_medial_max, result.medial_to_surface_max);
   result.surface_sample_count = impl_->samples.size();
   if (options.maxima_only) {
