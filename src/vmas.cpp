@@ -291,13 +291,29 @@ struct Pass {
 };
 
 // What another start needs of `prepared`: all but its shape, which the start builds in its own
-// frame (a copy would hold a third shape in memory while the starts run).
-PreparedShape without_shape(const PreparedShape& prepared) {
+// frame, and the maps from the input's points to the shape's (label_input() uses the first
+// start's): on a big cloud these are more than the run's memory.
+PreparedShape without_shape(PreparedShape& prepared) {
   PreparedShape copy;
+  std::vector<int> kept = std::move(prepared.result.clean.kept);
+  std::vector<int> stand_in = std::move(prepared.result.prepare.stand_in);
   copy.result = prepared.result;
+  prepared.result.clean.kept = std::move(kept);
+  prepared.result.prepare.stand_in = std::move(stand_in);
   copy.run = prepared.run;
   copy.surface = prepared.surface;
   return copy;
+}
+
+// The label of each of the `input_points` points of the input: its stand-in's among the shape's
+// vertices (`labels`), back through preparation and cleaning (`maps` holds them); -1 for none.
+std::vector<int> label_input(const Result& maps, const std::vector<int>& labels,
+                             std::size_t input_points) {
+  std::vector<int> input_labels(input_points, -1);
+  const std::vector<int>& stand_in = maps.prepare.stand_in;
+  for (std::size_t i = 0; i < stand_in.size(); ++i)
+    if (stand_in[i] >= 0) input_labels[maps.clean.kept[i]] = labels[stand_in[i]];
+  return input_labels;
 }
 
 // `prepared` (without its shape) carried into its working frame turned `turn` times: another
@@ -310,10 +326,9 @@ PreparedShape turned(PreparedShape prepared, int turn, const Options& options) {
   return prepared;
 }
 
-// The optimisation, refinement and connectivity on `prepared`; `input_points`: the points of the
-// input it was prepared from (one label each).
-Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& options,
-              const ProgressCallback& progress) {
+// The optimisation, refinement and connectivity on `prepared` (the labels of the input's points
+// are the caller's: see label_input).
+Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCallback& progress) {
   const EvalOptions measure = refinement_eval_options(prepared);
   Pass pass;
   Result& result = pass.result;
@@ -378,13 +393,6 @@ Pass run_pass(PreparedShape prepared, std::size_t input_points, const Options& o
     result.invalid_spheres = invalid_spheres(skeletonizer.spheres(), skeletonizer.projector(),
                                              *measurer, result.prepare.diagonal);
 
-  // Labels of the shape's vertices, back through preparation and cleaning to the input.
-  result.labels.assign(input_points, -1);
-  const std::vector<int>& labels = skeletonizer.labels();
-  const std::vector<int>& stand_in = result.prepare.stand_in;
-  for (std::size_t i = 0; i < stand_in.size(); ++i)
-    if (stand_in[i] >= 0) result.labels[result.clean.kept[i]] = labels[stand_in[i]];
-
   result.seconds += skeletonizer.times();
   pass.state = skeletonizer.state();
   return pass;
@@ -424,7 +432,7 @@ Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Opti
     const auto start_time = Clock::now();
     Run run{run_pass(start == 0 ? std::move(prepared)
                                 : turned(std::move(sources[start - 1]), start, options),
-                     input_points, options, report)};
+                     options, report)};
     run.seconds = seconds_since(start_time);
     return run;
   };
@@ -463,6 +471,12 @@ Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Opti
   }
   others_seconds -= runs[best].seconds;
   Pass kept = std::move(runs[best].pass);
+  const Result& maps = best == 0 ? kept.result : runs[0].pass.result;
+  kept.result.labels = label_input(maps, kept.state.labels, input_points);
+  if (best != 0) {
+    kept.result.clean.kept = std::move(runs[0].pass.result.clean.kept);
+    kept.result.prepare.stand_in = std::move(runs[0].pass.result.prepare.stand_in);
+  }
   kept.result.start_kept = static_cast<int>(best);
   kept.result.start_errors = std::move(errors);
   // Side by side, the other starts' time is hidden in this one's.
