@@ -204,7 +204,7 @@ double Envelope::piece_distance(int id, const Vec3& p) const {
 }
 
 double Envelope::nearest_piece(const Vec3& p, int& piece, double stop_below) const {
-  piece = -1;
+  if (piece >= piece_count()) piece = -1;
   return piece_tree_->nearest(
       p, [&](int id) { return piece_distance(id, p); }, stop_below, &piece);
 }

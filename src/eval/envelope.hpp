@@ -68,11 +68,11 @@ class Envelope {
   // Unsigned distance from p to the boundary piece.
   double piece_distance(int piece, const Vec3& p) const;
   // The nearest piece to p and its distance; with `stop_below`, possibly some piece nearer than
-  // that instead (Bvh::nearest).
+  // that instead (Bvh::nearest). `piece`: one likely to be near, tried first, or -1.
   double nearest_piece(const Vec3& p, int& piece, double stop_below = -kInfinity) const;
   // Smallest unsigned distance from p to the boundary of any sphere, cone or tangent triangle.
   double boundary_distance(const Vec3& p) const {
-    int piece;
+    int piece = -1;
     return nearest_piece(p, piece);
   }
   // Whether p lies deeper than `tolerance` inside `solid`.

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -11,6 +12,7 @@
 
 #include "eval/envelope.hpp"
 #include "eval/shape_distance.hpp"
+#include "radix_sort.hpp"
 #include "subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
@@ -50,6 +52,9 @@ using internal::ShapeDistance;
 using internal::SurfaceSideCache;
 
 namespace {
+
+// Hiders of the last samples that a sample is tried against before the tree of solids.
+constexpr std::size_t kRecentHiders = 4;
 
 // With maxima_only, a distance is searched exactly only from this share of the last maximum up
 // (of the least of the largest boundary distances, which the maximum is refined around).
@@ -91,6 +96,33 @@ double sparse_maximum(const Envelope& envelope, const std::vector<Vec3>& samples
   return largest;
 }
 
+// The indices of `points` along a Z-order curve over their bounding box (1024 cells a side).
+std::vector<int> z_order(const std::vector<Vec3>& points) {
+  Box box;
+  for (const Vec3& p : points) box.extend(p);
+  const Vec3 size = box.sizes().cwiseMax(1e-300);
+  // The 10 bits of a cell coordinate spread to every third bit.
+  const auto spread = [](std::uint64_t x) {
+    x = (x | (x << 16)) & 0x30000ffULL;
+    x = (x | (x << 8)) & 0x300f00fULL;
+    x = (x | (x << 4)) & 0x30c30c3ULL;
+    return (x | (x << 2)) & 0x9249249ULL;
+  };
+  std::vector<std::uint64_t> keys(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::uint64_t code = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double cell = std::floor((points[i][c] - box.min()[c]) / size[c] * 1023.0 + 0.5);
+      code |= spread(static_cast<std::uint64_t>(std::clamp(cell, 0.0, 1023.0))) << c;
+    }
+    keys[i] = (code << 32) | i;
+  }
+  internal::radix_sort(keys);
+  std::vector<int> order(points.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) order[k] = static_cast<int>(keys[k] & 0xffffffffULL);
+  return order;
+}
+
 // The point with the largest value (the first of equals); the origin when there is none.
 Vec3 worst_point(const std::vector<Vec3>& points, const std::vector<double>& values) {
   if (values.empty()) return Vec3::Zero();
@@ -124,9 +156,11 @@ void find_hiders(const Envelope& envelope, const FreshPrimitives& fresh_solids,
   const auto flat_count = static_cast<std::ptrdiff_t>(flat.size());
 #pragma omp parallel
   {
-    // Neighbouring samples of a piece are mostly hidden by the same solid. Which hider a sample
-    // records does not matter: only whether it has one while that solid is there.
-    int last_hider = -1;
+    // Neighbouring samples of a piece are mostly hidden by the same few solids: the last ones
+    // found are tried first. Which hider a sample records does not matter: only whether it has
+    // one while that solid is there.
+    std::array<int, kRecentHiders> recent;
+    recent.fill(-1);
 #pragma omp for schedule(dynamic, 1024)
     for (std::ptrdiff_t f = 0; f < flat_count; ++f) {
       PieceSamples& entry = *by_piece[flat[f].first].first;
@@ -144,9 +178,21 @@ void find_hiders(const Envelope& envelope, const FreshPrimitives& fresh_solids,
         });
         continue;
       }
-      const int id = envelope.hider(p, piece, tolerance, last_hider);
+      const int owner = envelope.owner_solid(piece);
+      int id = -1;
+      for (int solid : recent)
+        if (solid >= 0 && solid != owner && envelope.deep_inside(solid, p, tolerance)) {
+          id = solid;
+          break;
+        }
+      if (id < 0) {
+        id = envelope.hider(p, piece, tolerance);
+        if (id >= 0) {
+          std::copy_backward(recent.begin(), recent.end() - 1, recent.end());
+          recent[0] = id;
+        }
+      }
       hider = id < 0 ? kNone : envelope.solid_key(id);
-      if (id >= 0) last_hider = id;
     }
   }
 }
@@ -191,6 +237,7 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
   const SurfaceInput& shape;
   double diagonal = 0.0;
   std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
+  std::vector<int> visit;     // the samples' indices in an order that keeps neighbours together
   ShapeDistance distance;     // medial -> surface
   // What the last measurement left to re-use, and what keep_memory() set aside.
   struct Memory {
@@ -235,6 +282,7 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
     samples.insert(samples.end(), impl_->samples.begin() + points, impl_->samples.end());
     impl_->samples = std::move(samples);
   }
+  impl_->visit = z_order(impl_->samples);
 }
 
 Evaluator::~Evaluator() = default;
@@ -269,18 +317,22 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
   cache.distance.resize(samples.size());
   cache.nearest.resize(samples.size());
   cache.exact.resize(samples.size());
-  // The nearest piece, or one nearer than `stop_below`.
-  const auto search = [&](std::ptrdiff_t i, double stop_below) {
-    int piece = -1;
+  // The nearest piece, or one nearer than `stop_below`; `piece`: the last one found by this
+  // thread (samples next to each other are mostly near the same piece).
+  const auto search = [&](std::ptrdiff_t i, double stop_below, int& piece) {
     cache.distance[i] = envelope.nearest_piece(samples[i], piece, stop_below);
     cache.nearest[i] = envelope.piece_key(piece);
     cache.exact[i] = !(cache.distance[i] < stop_below);
   };
   const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (std::ptrdiff_t i = 0; i < sample_count; ++i) {
+#pragma omp parallel
+  {
+  int piece = -1;
+#pragma omp for schedule(dynamic, 1024)
+  for (std::ptrdiff_t k = 0; k < sample_count; ++k) {
+    const int i = visit[k];
     if (!(reuse && pieces_now.count(cache.nearest[i]))) {
-      search(i, below);
+      search(i, below, piece);
       continue;
     }
     const Vec3& p = samples[i];
@@ -297,8 +349,9 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
     if (d < below) {
       cache.exact[i] = false;
     } else if (!cache.exact[i]) {
-      search(i, below);
+      search(i, below, piece);
     }
+  }
   }
   cache.pieces = std::move(pieces_now);
   return cache.distance;
