@@ -1,9 +1,11 @@
 """The sections as run: Table 1, Table 2 (and the picture of its worst row), Table 3, the real
-scans and the scaling, each walking its models and inputs, running vmas on each and storing the
-rows in the results (saved as they come)."""
+scans, the scaling and live editing, each walking its models and inputs, running vmas on each
+and storing the rows in the results (saved as they come)."""
 
+import json
 import math
 import os
+import subprocess
 
 import numpy as np
 
@@ -361,3 +363,39 @@ def scaling(args, results, save, log):
     results["scaling_plot"] = plot_scaling(results["scaling"], model, args, png)
     log(f"[scaling] plot: {png}" if results["scaling_plot"] == png else
         f"[scaling] no plot: {results['scaling_plot']['error']}")
+
+
+EDITING_FILTER = ("^BM_Step/|^BM_EditThenStep/1$|^BM_StepOnAThinnedScan/2$"
+                  "|^BM_EditSessionOnAThinnedScan/")
+
+
+def live_editing(args, results, save, log):
+    """Runs vmas_step_benchmark (beside --vmas; built with the tests) for the step latency and
+    the editor engine's updates per second (medians of three repetitions), and keeps its
+    figures."""
+    binary = os.path.join(os.path.dirname(os.path.abspath(args.vmas)), "vmas_step_benchmark")
+    row = {"binary": binary}
+    results["editing"] = row
+    if not os.path.exists(binary):
+        row["error"] = f"{binary} not found (it is built with the tests)"
+        save()
+        return
+    log(f"[editing] {binary}")
+    env = dict(os.environ, VMAS_SHARED_DATA=args.data)
+    report = None
+    try:
+        done = subprocess.run([binary, "--benchmark_format=json", "--benchmark_repetitions=3",
+                               "--benchmark_report_aggregates_only=true",
+                               f"--benchmark_filter={EDITING_FILTER}"],
+                              capture_output=True, text=True, timeout=max(args.timeout, 900),
+                              env=env, check=False)
+        if done.returncode == 0:
+            report = json.loads(done.stdout)
+        else:
+            row["error"] = f"exit {done.returncode}: {done.stderr.strip()[-300:]}"
+    except (OSError, subprocess.TimeoutExpired, json.JSONDecodeError) as e:
+        row["error"] = str(e)
+    if report:
+        row["benchmarks"] = [b for b in report.get("benchmarks", [])
+                             if b.get("aggregate_name") == "median"]
+    save()

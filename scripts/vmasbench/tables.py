@@ -667,3 +667,42 @@ def format_scaling(results, args):
                  + ("failed on " + "; ".join(invalid) if invalid else
                     f"passed on all {len(ran)} runs that finished" if ran else "no run finished"))
     return "\n".join(parts)
+
+
+# The live-editing figures of build/vmas_step_benchmark (tests/benchmarks/step_benchmark.cpp),
+# by the benchmark's run name: what each row is.
+EDITING_BENCHMARKS = {
+    "BM_Step/1": "one step, vessel (49 698 vertices), 200 spheres, 1 thread",
+    "BM_Step/2": "one step, vessel, 200 spheres, 2 threads",
+    "BM_EditThenStep/1": "remove + split + the step after, vessel, 200 spheres, 1 thread",
+    "BM_StepOnAThinnedScan/2": "one step, 1 M-point armadillo cloud (thinned), 200 spheres, "
+                               "2 threads",
+    "BM_EditSessionOnAThinnedScan/2/iterations:1/real_time":
+        "editor engine (no page), 1 M-point cloud, growing to 200 spheres, then a split and a "
+        "removal every 100 ms for 3 s, 2 threads",
+}
+
+
+def format_editing(results):
+    """The live-editing figures: the step latency (issue 45's target: at most 4 ms on one thread at
+    ~50 000 vertices) and the editor engine's updates per second at 1 M points (at least 10)."""
+    row = results.get("editing") or {}
+    if row.get("error"):
+        return f"not measured: {cell(row['error'])}"
+    lines = []
+    for b in row.get("benchmarks", []):
+        name = b.get("run_name", b.get("name"))
+        label = EDITING_BENCHMARKS.get(name, name)
+        if "updates_per_s_growing" in b:
+            figure = (f"{b['updates_per_s_growing']:.1f} updates/s growing "
+                      f"({b.get('growing_s', 0):.1f} s to 200 spheres), "
+                      f"{b.get('updates_per_s_editing', 0):.1f} updates/s edited")
+            met = min(b["updates_per_s_growing"], b.get("updates_per_s_editing", 0)) >= 10
+        else:
+            ms = b.get("real_time")
+            figure = f"{ms:.2f} ms" if ms is not None else "—"
+            met = ms <= 4.0 if name == "BM_Step/1" and ms is not None else None
+        lines.append([label, figure, "" if met is None else ("met" if met else "missed")])
+    return ("Medians of three repetitions of `vmas_step_benchmark` (Google Benchmark; targets: one "
+            "step ≤ 4 ms on one thread at ~50 000 vertices, ≥ 10 updates/s at 1 M points).\n\n"
+            + markdown_table(["what", "figure", "target"], lines))

@@ -8,15 +8,19 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "../shared_data.hpp"
+#include "vmas/edit_session.hpp"
 #include "vmas/io.hpp"
 #include "vmas/prepare.hpp"
+#include "vmas/shape.hpp"
 #include "vmas/skeletonizer.hpp"
 
 namespace {
@@ -66,14 +70,23 @@ vmas::Skeletonizer* settled_skeletonizer() {
   return skeletonizer.get();
 }
 
-vmas::Skeletonizer* settled_scan_skeletonizer() {
-  static const std::unique_ptr<vmas::Skeletonizer> skeletonizer = [] {
-    std::unique_ptr<vmas::Skeletonizer> made;
+// The 1 M-point cloud as skeletonize() prepares it (thinned, normals estimated); nullptr without
+// the shared data.
+const vmas::SurfaceInput* prepared_scan() {
+  static const std::unique_ptr<vmas::SurfaceInput> cloud = [] {
+    std::unique_ptr<vmas::SurfaceInput> made;
     if (!std::filesystem::exists(data_path("armadillo"))) return made;
-    vmas::SurfaceInput cloud = sampled_cloud(vmas::read_surface(data_path("armadillo")), kScanPoints);
-    vmas::prepare_surface(cloud, vmas::PrepareOptions{});
-    return settled(std::move(cloud));
+    made = std::make_unique<vmas::SurfaceInput>(
+        sampled_cloud(vmas::read_surface(data_path("armadillo")), kScanPoints));
+    vmas::prepare_surface(*made, vmas::PrepareOptions{});
+    return made;
   }();
+  return cloud.get();
+}
+
+vmas::Skeletonizer* settled_scan_skeletonizer() {
+  static const std::unique_ptr<vmas::Skeletonizer> skeletonizer =
+      prepared_scan() ? settled(*prepared_scan()) : nullptr;
   return skeletonizer.get();
 }
 
@@ -120,7 +133,56 @@ void BM_EditThenStep(benchmark::State& state) {
   state.counters["spheres"] = static_cast<double>(skeletonizer->spheres().size());
 }
 
+// The editor's engine alone (no page): a session on the 1 M-point scan, growing from one sphere
+// to 200, then edited (a split and a removal every 100 ms for 3 s). Its published states per
+// second in each phase are the updates a page could show (issue 45: at least 10).
+void BM_EditSessionOnAThinnedScan(benchmark::State& state) {
+  if (!prepared_scan()) {
+    state.SkipWithError(("shared data not found: " + data_path("armadillo")).c_str());
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  const vmas::Shape shape = vmas::build_shape(*prepared_scan(), vmas::ShapeOptions{});
+  double growing = 0.0, editing = 0.0, growing_seconds = 0.0;
+  for (auto _ : state) {
+    vmas::SkeletonizerOptions options;
+    options.target.spheres = kSpheres;
+    vmas::EditSession session(shape, options, static_cast<int>(state.range(0)));
+    const auto start = Clock::now();
+    vmas::EditSnapshot now = session.snapshot();
+    while (now.spheres.size() < static_cast<std::size_t>(kSpheres) && seconds_since(start) < 120) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      now = session.snapshot();
+    }
+    growing_seconds = seconds_since(start);
+    growing = static_cast<double>(now.version) / growing_seconds;
+    const std::uint64_t grown = now.version;
+    const auto edits_start = Clock::now();
+    int vertex = 0;
+    while (seconds_since(edits_start) < 3.0) {
+      vertex = (vertex + 7919) % shape.size();
+      session.split_at(vertex);
+      session.remove(now.keys.front());
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      now = session.snapshot();
+    }
+    editing = static_cast<double>(now.version - grown) / seconds_since(edits_start);
+  }
+  state.counters["vertices"] = shape.size();
+  state.counters["growing_s"] = growing_seconds;
+  state.counters["updates_per_s_growing"] = growing;
+  state.counters["updates_per_s_editing"] = editing;
+}
+
 BENCHMARK(BM_Step)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EditSessionOnAThinnedScan)
+    ->Arg(2)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
 BENCHMARK(BM_EditThenStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepOnAThinnedScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
