@@ -37,13 +37,13 @@ constexpr int kSettleSteps = 3;
 
 // Unfrozen spheres other than `keep`, cheapest to remove first: the energy their vertices would
 // gain by joining the best neighbouring sphere instead.
-std::vector<int> removal_order(const Skeletonizer& skeletonizer, int keep) {
+std::vector<int> removal_order(const Skeletonizer& skeletonizer,
+                               const std::vector<std::vector<int>>& adjacent, int keep) {
   const Shape& shape = skeletonizer.shape();
   const std::vector<Sphere>& spheres = skeletonizer.spheres();
   const std::vector<int>& labels = skeletonizer.labels();
   const double lambda = skeletonizer.options().lambda;
   const int count = static_cast<int>(spheres.size());
-  const auto adjacent = cluster_adjacency(shape, labels, count);
   std::vector<double> cost(count, 0.0);
   for (int v = 0; v < shape.size(); ++v) {
     const int own = labels[v];
@@ -106,16 +106,50 @@ bool aims_at_uncovered(const EvalResult& now) {
   return now.surface_to_medial_max >= now.medial_to_surface_max;
 }
 
+// The cluster adjacency once `removed` is gone (`adjacent`: before), its vertices
+// (`former_members`) having gone to their `labels` and every other cluster's id above it one
+// lower: the pairs without it stay, and the graph's edges at its former vertices give the new
+// ones (the graph is symmetric). The same lists as cluster_adjacency() of the new labels.
+std::vector<std::vector<int>> adjacency_without(const Shape& shape,
+                                                const std::vector<std::vector<int>>& adjacent,
+                                                int removed, const std::vector<int>& labels,
+                                                const std::vector<int>& former_members) {
+  const auto renumbered = [removed](int c) { return c > removed ? c - 1 : c; };
+  std::vector<std::vector<int>> adjacency(adjacent.size() - 1);
+  for (int c = 0; c < static_cast<int>(adjacent.size()); ++c) {
+    if (c == removed) continue;
+    auto& list = adjacency[renumbered(c)];
+    for (int other : adjacent[c])
+      if (other != removed) list.push_back(renumbered(other));
+  }
+  for (int v : former_members)
+    for (int i = shape.neighbour_offsets[v]; i < shape.neighbour_offsets[v + 1]; ++i) {
+      const int a = labels[v], b = labels[shape.neighbours[i]];
+      if (a == b) continue;
+      adjacency[a].push_back(b);
+      adjacency[b].push_back(a);
+    }
+  for (auto& list : adjacency) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return adjacency;
+}
+
 // Whether the vertices of sphere `removed` would all stay closer than `margin` to the
 // reconstruction without it. Computed aside, without changing the skeletonizer: removing a sphere
 // only relabels its own vertices (every other vertex keeps its nearest sphere), so they alone are
-// partitioned again, exactly as remove_sphere() would (lowest id among equals).
-bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, double margin) {
+// partitioned again, exactly as remove_sphere() would (lowest id among equals). `adjacent`: the
+// cluster adjacency as it is.
+bool leaves_members_covered(const Skeletonizer& skeletonizer,
+                            const std::vector<std::vector<int>>& adjacent, int removed,
+                            double margin) {
   const Shape& shape = skeletonizer.shape();
   const double lambda = skeletonizer.options().lambda;
   std::vector<Sphere> spheres = skeletonizer.spheres();
   spheres.erase(spheres.begin() + removed);
   std::vector<int> labels = skeletonizer.labels();
+  std::vector<int> former_members;
   std::vector<Vec3> members;
   for (int v = 0; v < shape.size(); ++v) {
     int& label = labels[v];
@@ -123,6 +157,7 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, doubl
       if (label > removed) --label;
       continue;
     }
+    former_members.push_back(v);
     members.push_back(shape.points[v]);
     double best = std::numeric_limits<double>::infinity();
     for (int c = 0; c < static_cast<int>(spheres.size()); ++c) {
@@ -134,7 +169,7 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer, int removed, doubl
     }
   }
   const MedialMesh medial = build_medial_mesh(
-      spheres, cluster_adjacency(shape, labels, static_cast<int>(spheres.size())));
+      spheres, adjacency_without(shape, adjacent, removed, labels, former_members));
   const std::vector<double> left = envelope_distances(medial, members);
   return left.empty() || *std::max_element(left.begin(), left.end()) < margin;
 }
@@ -159,10 +194,13 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
   std::vector<int> order;
   for (int own : bulge.spheres)
     if (own >= 0 && !skeletonizer.frozen(own)) order.push_back(own);
-  for (int c : removal_order(skeletonizer, added))
+  const auto adjacent = cluster_adjacency(skeletonizer.shape(), skeletonizer.labels(),
+                                          static_cast<int>(skeletonizer.spheres().size()));
+  for (int c : removal_order(skeletonizer, adjacent, added))
     if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
   for (std::size_t k = 0; k < order.size() && k < kRemovalCandidates; ++k) {
-    if (!leaves_members_covered(skeletonizer, order[k], kRemovalMargin * now.hausdorff)) continue;
+    if (!leaves_members_covered(skeletonizer, adjacent, order[k], kRemovalMargin * now.hausdorff))
+      continue;
     skeletonizer.remove_sphere(order[k]);
     return order[k];
   }
