@@ -1,9 +1,6 @@
 #include "update.hpp"
 
 #include <Eigen/Dense>
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 #include <string>
 
 #include "partition.hpp"
@@ -13,10 +10,10 @@ namespace vmas {
 
 void UpdateOptions::validate() const {
   if (max_iterations < 1 || max_iterations > 1000)
-    throw InvalidOption("max_iterations", "must be between 1 and 1000 (got " +
-                                              std::to_string(max_iterations) + ")");
+    throw InvalidOption("update iterations must be between 1 and 1000 (got " +
+                        std::to_string(max_iterations) + ")");
   if (!(step_tolerance >= 0.0 && step_tolerance < 1.0))
-    throw InvalidOption("step_tolerance", "must be in [0, 1) (got " +
+    throw InvalidOption("update step tolerance must be in [0, 1) (got " +
                         std::to_string(step_tolerance) + ")");
 }
 
@@ -29,40 +26,6 @@ double cluster_energy(const Shape& shape, const std::vector<int>& members, const
 
 namespace {
 
-// Distances and unit directions from the centre to the members, two members at a time where
-// SSE2 is (packed square roots and divisions, each rounded as the scalar ones: the same values).
-struct MemberDirections {
-  double length[2], u[2][3];
-};
-
-inline void directions_of(const Vec3& a, const Vec3& b, const Vec3& center, MemberDirections& out) {
-#ifdef __SSE2__
-  const __m128d dx = _mm_sub_pd(_mm_set_pd(b.x(), a.x()), _mm_set1_pd(center.x()));
-  const __m128d dy = _mm_sub_pd(_mm_set_pd(b.y(), a.y()), _mm_set1_pd(center.y()));
-  const __m128d dz = _mm_sub_pd(_mm_set_pd(b.z(), a.z()), _mm_set1_pd(center.z()));
-  // Eigen's squaredNorm of a 3-vector: (x² + y²) + z².
-  const __m128d length = _mm_sqrt_pd(
-      _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz)));
-  alignas(16) double ux[2], uy[2], uz[2];
-  _mm_store_pd(ux, _mm_div_pd(dx, length));
-  _mm_store_pd(uy, _mm_div_pd(dy, length));
-  _mm_store_pd(uz, _mm_div_pd(dz, length));
-  _mm_storeu_pd(out.length, length);
-  for (int k = 0; k < 2; ++k) {
-    out.u[k][0] = ux[k];
-    out.u[k][1] = uy[k];
-    out.u[k][2] = uz[k];
-  }
-#else
-  const Vec3* points[2] = {&a, &b};
-  for (int k = 0; k < 2; ++k) {
-    const Vec3 offset = *points[k] - center;
-    out.length[k] = offset.norm();
-    for (int c = 0; c < 3; ++c) out.u[k][c] = offset[c] / out.length[k];
-  }
-#endif
-}
-
 // F(s) of one cluster, using the summed quadric for the SQEM part. When `hessian` is given, also
 // the normal equations of the step from s: the Euclidean residuals ‖p−q‖ − r linearised with the
 // unit directions u = (p − q)/‖p − q‖ frozen, i.e. ∇[½sᵀAs − bᵀs + λΣA(v)(uᵀp − ũᵀs)²] = 0 with
@@ -72,50 +35,24 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
                 const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
   const Vec3 center = s.head<3>();
   double euclidean = 0.0;
-  // Local accumulators, one scalar per entry (h[i][j] += (w u_i) u_j, u_3 = 1, g[i] += (w u·p) u_i,
-  // in member order, as the matrix expressions would, products by u_3 left out): held in
-  // registers, where a 4×4 matrix of Eigen's was spilled and reloaded for every member.
-  double h[4][4], g[4];
-  for (int i = 0; i < 4; ++i) {
-    g[i] = cluster_quadric.b[i];
-    for (int j = 0; j < 4; ++j) h[i][j] = cluster_quadric.A(i, j);
-  }
-  const auto add = [&](int v, double length, const double (&u)[3]) {
+  // Local accumulators: through the pointers every term would be a load and a store.
+  Eigen::Matrix4d h = cluster_quadric.A;
+  Vec4 g = cluster_quadric.b;
+  for (int v : members) {
+    const Vec3 offset = shape.points[v] - center;
+    const double length = offset.norm();
     euclidean += shape.area[v] * (length - s.w()) * (length - s.w());
     // A sample at the centre gives no direction.
-    if (!kNormalEquations || !(length > 0.0)) return;
+    if (!kNormalEquations || !(length > 0.0)) continue;
+    const Vec3 u = offset / length;
+    const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
     const double weight = 2.0 * lambda * shape.area[v];
-    const double wu[3] = {weight * u[0], weight * u[1], weight * u[2]};
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) h[i][j] += wu[i] * u[j];
-      h[i][3] += wu[i];
-      h[3][i] += weight * u[i];
-    }
-    h[3][3] += weight;
-    const Vec3& p = shape.points[v];
-    const double along = weight * ((u[0] * p.x() + u[1] * p.y()) + u[2] * p.z());
-    for (int i = 0; i < 3; ++i) g[i] += along * u[i];
-    g[3] += along;
-  };
-  const std::size_t count = members.size();
-  MemberDirections pair;
-  std::size_t k = 0;
-  for (; k + 1 < count; k += 2) {
-    const int a = members[k], b = members[k + 1];
-    directions_of(shape.points[a], shape.points[b], center, pair);
-    add(a, pair.length[0], pair.u[0]);
-    add(b, pair.length[1], pair.u[1]);
-  }
-  if (k < count) {
-    const int a = members[k];
-    directions_of(shape.points[a], shape.points[a], center, pair);
-    add(a, pair.length[0], pair.u[0]);
+    h.noalias() += weight * direction * direction.transpose();
+    g.noalias() += (weight * u.dot(shape.points[v])) * direction;
   }
   if (kNormalEquations) {
-    for (int i = 0; i < 4; ++i) {
-      (*rhs)[i] = g[i];
-      for (int j = 0; j < 4; ++j) (*hessian)(i, j) = h[i][j];
-    }
+    *hessian = h;
+    *rhs = g;
   }
   return cluster_quadric(s) + lambda * euclidean;
 }

@@ -24,7 +24,8 @@
 
 namespace vmas {
 
-// The version of the library this program runs with (e.g. "0.4.0": project()'s VERSION in CMakeLists.txt).
+// The version of the library this program runs with (e.g. "0.4.0": project()'s VERSION in
+// CMakeLists.txt).
 const char* version();
 
 // Every option of `vmas skeletonize`, with its defaults.

@@ -119,7 +119,8 @@ std::vector<int> z_order(const std::vector<Vec3>& points) {
   }
   internal::radix_sort(keys);
   std::vector<int> order(points.size());
-  for (std::size_t k = 0; k < keys.size(); ++k) order[k] = static_cast<int>(keys[k] & 0xffffffffULL);
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    order[k] = static_cast<int>(keys[k] & 0xffffffffULL);
   return order;
 }
 
@@ -327,31 +328,32 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
   const auto sample_count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel
   {
-  int piece = -1;
+    int piece = -1;
 #pragma omp for schedule(dynamic, 1024)
-  for (std::ptrdiff_t k = 0; k < sample_count; ++k) {
-    const int i = visit[k];
-    if (!(reuse && pieces_now.count(cache.nearest[i]))) {
-      search(i, below, piece);
-      continue;
+    for (std::ptrdiff_t k = 0; k < sample_count; ++k) {
+      const int i = visit[k];
+      if (!(reuse && pieces_now.count(cache.nearest[i]))) {
+        search(i, below, piece);
+        continue;
+      }
+      const Vec3& p = samples[i];
+      double& d = cache.distance[i];
+      int item = -1;
+      const double fresh = fresh_pieces.tree->nearest(
+          p, [&](int fresh_id) { return envelope.piece_distance(fresh_pieces.ids[fresh_id], p); },
+          below, &item);
+      if (fresh < d) {
+        d = fresh;
+        cache.nearest[i] = envelope.piece_key(fresh_pieces.ids[item]);
+      }
+      // Below `below` a bound will do; above it only an exact distance (the fresh pieces were all
+      // searched: none stopped the search early).
+      if (d < below) {
+        cache.exact[i] = false;
+      } else if (!cache.exact[i]) {
+        search(i, below, piece);
+      }
     }
-    const Vec3& p = samples[i];
-    double& d = cache.distance[i];
-    int item = -1;
-    const double fresh = fresh_pieces.tree->nearest(
-        p, [&](int k) { return envelope.piece_distance(fresh_pieces.ids[k], p); }, below, &item);
-    if (fresh < d) {
-      d = fresh;
-      cache.nearest[i] = envelope.piece_key(fresh_pieces.ids[item]);
-    }
-    // Below `below` a bound will do; above it only an exact distance (the fresh pieces were all
-    // searched: none stopped the search early).
-    if (d < below) {
-      cache.exact[i] = false;
-    } else if (!cache.exact[i]) {
-      search(i, below, piece);
-    }
-  }
   }
   cache.pieces = std::move(pieces_now);
   return cache.distance;
