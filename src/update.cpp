@@ -10,10 +10,10 @@ namespace vmas {
 
 void UpdateOptions::validate() const {
   if (max_iterations < 1 || max_iterations > 1000)
-    throw InvalidOption("update iterations must be between 1 and 1000 (got " +
-                        std::to_string(max_iterations) + ")");
+    throw InvalidOption("max_iterations", "must be between 1 and 1000 (got " +
+                                              std::to_string(max_iterations) + ")");
   if (!(step_tolerance >= 0.0 && step_tolerance < 1.0))
-    throw InvalidOption("update step tolerance must be in [0, 1) (got " +
+    throw InvalidOption("step_tolerance", "must be in [0, 1) (got " +
                         std::to_string(step_tolerance) + ")");
 }
 

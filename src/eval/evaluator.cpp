@@ -244,6 +244,7 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
   struct Memory {
     SurfaceSideCache surface;
     std::unordered_map<std::uint64_t, PieceSamples> boundary;  // by piece key
+    double boundary_spacing = 0.0;             // of those samples
     std::unordered_set<std::uint64_t> solids;  // keys of every solid of the reconstruction
   };
   Memory memory, kept;
@@ -288,7 +289,20 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
 
 Evaluator::~Evaluator() = default;
 
-void Evaluator::keep_memory() { impl_->kept = impl_->memory; }
+// The boundary samples are kept without their points (most of their memory), which the next
+// measurement samples again where it needs them.
+void Evaluator::keep_memory() {
+  Impl::Memory& kept = impl_->kept;
+  kept.surface = impl_->memory.surface;
+  kept.solids = impl_->memory.solids;
+  kept.boundary_spacing = impl_->memory.boundary_spacing;
+  kept.boundary.clear();
+  for (const auto& [key, piece] : impl_->memory.boundary) {
+    PieceSamples& copy = kept.boundary[key];
+    copy.hider = piece.hider;
+    copy.distance = piece.distance;
+  }
+}
 
 void Evaluator::restore_memory() { impl_->memory = impl_->kept; }
 
@@ -364,6 +378,9 @@ const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelop
 void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, double tolerance,
                                     double below, BoundarySamples& boundary,
                                     std::vector<double>& to_surface) {
+  // Samples of another spacing (outsized primitives are sampled more coarsely) are not these.
+  if (memory.boundary_spacing != spacing) memory.boundary.clear();
+  memory.boundary_spacing = spacing;
   FreshPrimitives fresh_solids;
   find_fresh(
       envelope.solid_count(), memory.solids, [&](int id) { return envelope.solid_key(id); },
@@ -380,16 +397,20 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
     // Two coincident spheres give identical pieces: their samples are looked at once (a sample
     // on one is not inside the other).
     if (!first) continue;
+    PieceSamples& samples_of_piece = entry->second;
     const auto known = memory.boundary.find(key);
-    if (known != memory.boundary.end()) {
-      entry->second = std::move(known->second);
-    } else {
+    if (known != memory.boundary.end()) samples_of_piece = std::move(known->second);
+    // Kept aside without its points (keep_memory): the same piece, sampled again, gives them.
+    if (known == memory.boundary.end() ||
+        samples_of_piece.points.size() != samples_of_piece.hider.size()) {
       BoundarySamples sampled;
       envelope.sample_piece(piece, spacing, sampled);
-      entry->second.points = std::move(sampled.points);
-      entry->second.hider.assign(entry->second.points.size(), kUnknown);
-      entry->second.distance.assign(entry->second.points.size(),
-                                    std::numeric_limits<double>::quiet_NaN());
+      samples_of_piece.points = std::move(sampled.points);
+      if (known == memory.boundary.end()) {
+        samples_of_piece.hider.assign(samples_of_piece.points.size(), kUnknown);
+        samples_of_piece.distance.assign(samples_of_piece.points.size(),
+                                         std::numeric_limits<double>::quiet_NaN());
+      }
     }
     for (int j = 0; j < static_cast<int>(entry->second.points.size()); ++j)
       flat.emplace_back(static_cast<int>(by_piece.size()) - 1, j);
