@@ -364,9 +364,20 @@ async function main() {
     fail('S sent no split edit at 50 hovered positions ("hover a point" every time)');
   };
 
+  // The colour of every sphere's cluster, by the sphere's key.
+  const coloursByKey = () => page.evaluate(() => Object.fromEntries(
+    state.keys.map((key, i) => [key, clusterColor(i, new THREE.Color()).getHexString()])));
+
   let list = await positions();
-  await check('D removes the hovered sphere', async () => {
+  await check('D removes the hovered sphere, and no other sphere changes colour', async () => {
+    const before = await coloursByKey();
     const removed = await removeHoveredWithD(list, SPHERES);
+    const after = await coloursByKey();
+    const recoloured = Object.keys(after).filter((key) => key in before && after[key] !== before[key]);
+    if (recoloured.length)
+      fail(`removing sphere ${removed.key} recoloured ${recoloured.length} other spheres (keys ${recoloured.slice(0, 5)})`);
+    if (Object.keys(after).filter((key) => key in before).length < SPHERES - 1)
+      fail(`after removing sphere ${removed.key}, fewer than ${SPHERES - 1} spheres kept their keys`);
     // The mouse has not moved: the status line names no other sphere as hovered (the page
     // follows the hovered sphere by key; by index, a removal would pass it to a neighbour).
     if (/ hovered sphere /.test(status)) fail(`after removing sphere ${removed.key}, still '${status}'`);
