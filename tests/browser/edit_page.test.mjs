@@ -221,7 +221,8 @@ async function main() {
 
   pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
-    'D removes the hovered sphere', 'S splits the hovered point\'s cluster',
+    'D removes the hovered sphere, and no other sphere changes colour',
+    'S splits the hovered point\'s cluster',
     '20 edits, D and S by turns: latency and updates per second',
     'five quick + presses are five more spheres, then - brings one back',
     'Ctrl-Z undoes the -, Ctrl-Shift-Z redoes it',
@@ -237,7 +238,8 @@ async function main() {
     'the screenshot button downloads a PNG',
     'at 800 × 600 with the panel folded the model is not covered', 'screenshot', 'no console or page error',
     'the page loads beside 100 clients sitting on half-sent headers',
-    'SIGINT stops vmas with exit code 0');
+    'SIGINT stops vmas with exit code 0',
+    'after vmas stops, the page says so and turns editing off; a key press throws nothing');
 
   await check('vmas edit starts and prints the page URL', async () => {
     if (!fs.existsSync(vmasBinary)) fail(`no vmas binary at ${vmasBinary} (build it: scripts/build)`);
@@ -921,6 +923,30 @@ async function main() {
     if (exit.code !== 0) fail(`vmas exited with ${vmasExit}:\n${vmasStderr.join('').slice(-2000)}`);
     for (const socket of slowClients) socket.destroy();
     return `code 0, ${Date.now() - interrupted} ms after the signal, ${slowClients.length} slow clients connected`;
+  });
+
+  await check('after vmas stops, the page says so and turns editing off; a key press throws nothing', async () => {
+    const bannerText = () => page.evaluate(() => {
+      const banner = document.getElementById('banner');
+      return getComputedStyle(banner).display === 'none' ? '' : banner.textContent;
+    });
+    const deadline = Date.now() + 10_000;
+    let banner = await bannerText();
+    while (!banner && Date.now() < deadline) {
+      await new Promise((resolve) => setTimeout(resolve, 100));
+      banner = await bannerText();
+    }
+    if (!/stopped/.test(banner)) fail(`no banner saying vmas stopped 10 s after it did (banner: '${banner}')`);
+    const enabled = await page.evaluate(() => editingControls.filter((id) => !document.getElementById(id).disabled));
+    if (enabled.length) fail(`editing controls still enabled: ${enabled.join(', ')}`);
+    const uncaughtBefore = pageErrors.filter((e) => e.startsWith('uncaught')).length;
+    await page.keyboard.press('+');  // an edit by key while vmas is gone
+    await new Promise((resolve) => setTimeout(resolve, 300));
+    const uncaught = pageErrors.filter((e) => e.startsWith('uncaught')).slice(uncaughtBefore);
+    if (uncaught.length) fail(uncaught.join('\n'));
+    const message = await page.locator('#message').textContent();
+    if (!/^not sent/.test(message)) fail(`the + key's edit says '${message}', not that it was not sent`);
+    return `'${banner}'; the + key: '${message}'`;
   });
 }
 
