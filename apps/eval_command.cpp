@@ -38,15 +38,6 @@ std::string number(double value) {
   return text;
 }
 
-// "1 piece of genus 3", "2 pieces of genus 1, 0".
-std::string genus_text(const std::vector<int>& genus) {
-  std::string text = std::to_string(genus.size()) + (genus.size() == 1 ? " piece" : " pieces") +
-                     " of genus ";
-  for (std::size_t i = 0; i < genus.size(); ++i)
-    text += (i ? ", " : "") + std::to_string(genus[i]);
-  return text;
-}
-
 // The figure as the summary prints it (6 significant digits), as a JSON number.
 double rounded(double value) { return std::stod(number(value)); }
 
@@ -111,9 +102,9 @@ int eval_command(int argc, const char* const* argv) {
   const EvalResult result = evaluate(shape, medial, options);
   // A cloud may be open: how the reconstruction covers it and meets its openings.
   const OpeningReach openings = opening_reach(shape, result);
-  const MedialTopology topology = medial_topology(medial);
-  const SurfaceGenus genus =
-      surface_genus(shape, shape.is_mesh() ? mesh_defects(shape.faces) : MeshDefects{});
+  const json topology = topology_summary(
+      medial_topology(medial),
+      surface_genus(shape, shape.is_mesh() ? mesh_defects(shape.faces) : MeshDefects{}));
   std::vector<OutputFile> files;  // written together
   if (!errors_path.empty()) {
     std::string text;
@@ -159,7 +150,7 @@ int eval_command(int argc, const char* const* argv) {
         {"surface_to_medial_mean_percent", rounded(result.percent(result.surface_to_medial_mean))},
         {"medial_to_surface_max_percent", rounded(result.percent(result.medial_to_surface_max))},
         {"medial_to_surface_mean_percent", rounded(result.percent(result.medial_to_surface_mean))},
-        {"topology", topology_summary(topology, genus)},
+        {"topology", topology},
         {"openings", openings.openings},
         {"reach_percent", rounded(result.percent(openings.reach))},
         {"surface_samples", result.surface_sample_count},
@@ -180,11 +171,7 @@ int eval_command(int argc, const char* const* argv) {
             << "medial -> surface: max " << number(result.percent(result.medial_to_surface_max))
             << " %, mean " << number(result.percent(result.medial_to_surface_mean)) << " % ("
             << result.boundary_sample_count << " samples)\n";
-  std::cout << "topology: the skeleton has " << topology.components << " piece"
-            << (topology.components == 1 ? "" : "s") << ", " << topology.loops << " loop"
-            << (topology.loops == 1 ? "" : "s") << ", " << topology.cavities << " cavit"
-            << (topology.cavities == 1 ? "y" : "ies") << "; the shape: "
-            << (genus.known ? genus_text(genus.genus) : "genus unknown (" + genus.why + ")") << "\n";
+  std::cout << topology_line(topology) << "\n";
   if (!shape.is_mesh())
     std::cout << "coverage: every point within " << number(result.percent(result.surface_to_medial_max))
               << " % of the reconstruction; " << openings.openings << " opening"

@@ -24,6 +24,23 @@ json topology_summary(const MedialTopology& medial, const SurfaceGenus& input) {
           {"duplicate_triangles", medial.duplicate_triangles}};
 }
 
+std::string topology_line(const json& topology) {
+  const auto counted = [](int count, const char* one, const char* many) {
+    return std::to_string(count) + " " + (count == 1 ? one : many);
+  };
+  std::string line = "topology: the skeleton has " +
+                     counted(topology["b0"].get<int>(), "piece", "pieces") + ", " +
+                     counted(topology["b1"].get<int>(), "loop", "loops") + ", " +
+                     counted(topology["b2"].get<int>(), "cavity", "cavities") + "; the shape: ";
+  const json& genus = topology["input_genus"];
+  if (!genus.is_array())
+    return line + "genus unknown (" + topology["input_genus_unknown"].get<std::string>() + ")";
+  line += counted(static_cast<int>(genus.size()), "piece", "pieces") + " of genus ";
+  for (std::size_t i = 0; i < genus.size(); ++i)
+    line += (i ? ", " : "") + std::to_string(genus[i].get<int>());
+  return line;
+}
+
 json run_summary(const Result& result, const RunContext& run) {
   const InputSize& input = run.input_size;
   const PrepareReport& prepared = result.prepare;

@@ -32,5 +32,8 @@ json run_summary(const Result& result, const RunContext& run);
 // piece when known (`input_genus`: null and `input_genus_unknown` saying why otherwise), and the
 // medial mesh's Betti numbers and duplicate triangles.
 json topology_summary(const MedialTopology& medial, const SurfaceGenus& input);
+// The summaries' line of it: "topology: the skeleton has 1 piece, 3 loops, 0 cavities; the
+// shape: 1 piece of genus 3" (or "genus unknown (why)").
+std::string topology_line(const json& topology);
 
 }  // namespace vmas::cli

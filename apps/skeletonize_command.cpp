@@ -153,11 +153,7 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
           : s["converged"].get<bool>()               ? ""
                                        : " (error still changing: stopped after settling)")
       << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
-  const json& topology = s["topology"];
-  out << "topology: " << topology["b0"] << " piece(s), " << topology["b1"] << " loop(s), "
-      << topology["b2"] << " cavit" << (topology["b2"].get<int>() == 1 ? "y" : "ies");
-  if (topology["input_genus"].is_array()) out << "; input genus " << topology["input_genus"].dump();
-  out << "\n";
+  out << topology_line(s["topology"]) << "\n";
   const json& refine = s["refine"];
   if (refine["moves_tried"].get<int>() > 0)
     out << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]

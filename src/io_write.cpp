@@ -118,10 +118,6 @@ bool needs_double(const std::vector<Sphere>& spheres) {
   return largest > 1e30 || largest > 1e3 * extent;
 }
 
-}  // namespace
-
-namespace {
-
 // What read_medial_mesh would refuse, and a negative radius, is not written.
 void check_writable(const std::string& path, const MedialMesh& mesh) {
   const std::size_t count = mesh.spheres.size();

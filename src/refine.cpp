@@ -150,7 +150,6 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer,
   spheres.erase(spheres.begin() + removed);
   std::vector<int> labels = skeletonizer.labels();
   std::vector<int> former_members;
-  std::vector<Vec3> members;
   for (int v = 0; v < shape.size(); ++v) {
     int& label = labels[v];
     if (label != removed) {
@@ -158,7 +157,6 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer,
       continue;
     }
     former_members.push_back(v);
-    members.push_back(shape.points[v]);
     double best = std::numeric_limits<double>::infinity();
     for (int c = 0; c < static_cast<int>(spheres.size()); ++c) {
       const double energy = vertex_energy(shape, v, spheres[c], lambda);
@@ -170,6 +168,8 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer,
   }
   const MedialMesh medial = build_medial_mesh(
       spheres, adjacency_without(shape, adjacent, removed, labels, former_members));
+  std::vector<Vec3> members;
+  for (int v : former_members) members.push_back(shape.points[v]);
   const std::vector<double> left = envelope_distances(medial, members);
   return left.empty() || *std::max_element(left.begin(), left.end()) < margin;
 }

@@ -10,10 +10,10 @@
 #include "partition.hpp"
 #include "split.hpp"
 #include "stopwatch.hpp"
-#include "vmas/topology.hpp"
 #include "update.hpp"
 #include "validate_member.hpp"
 #include "vmas/error.hpp"
+#include "vmas/topology.hpp"
 
 namespace vmas {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
-#include <set>
 #include <numeric>
+#include <set>
 #include <unordered_map>
 #include <utility>
 

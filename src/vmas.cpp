@@ -282,6 +282,14 @@ PreparedShape prepare_shape(SurfaceInput input, const Options& options,
   return prepare_with_progress(std::move(input), options, progress);
 }
 
+std::vector<int> input_labels(const std::vector<int>& kept, const std::vector<int>& stand_in,
+                              const std::vector<int>& labels, std::size_t input_points) {
+  std::vector<int> by_row(input_points, -1);
+  for (std::size_t i = 0; i < stand_in.size(); ++i)
+    if (stand_in[i] >= 0) by_row[kept[i]] = labels[stand_in[i]];
+  return by_row;
+}
+
 namespace {
 
 // One pass of the pipeline over `input`: the result, and the skeletonizer's state at its end.
@@ -291,7 +299,7 @@ struct Pass {
 };
 
 // What another start needs of `prepared`: all but its shape, which the start builds in its own
-// frame, and the maps from the input's points to the shape's (label_input() uses the first
+// frame, and the maps from the input's points to the shape's (input_labels() uses the first
 // start's): on a big cloud these are more than the run's memory.
 PreparedShape without_shape(PreparedShape& prepared) {
   PreparedShape copy;
@@ -305,17 +313,6 @@ PreparedShape without_shape(PreparedShape& prepared) {
   return copy;
 }
 
-// The label of each of the `input_points` points of the input: its stand-in's among the shape's
-// vertices (`labels`), back through preparation and cleaning (`maps` holds them); -1 for none.
-std::vector<int> label_input(const Result& maps, const std::vector<int>& labels,
-                             std::size_t input_points) {
-  std::vector<int> input_labels(input_points, -1);
-  const std::vector<int>& stand_in = maps.prepare.stand_in;
-  for (std::size_t i = 0; i < stand_in.size(); ++i)
-    if (stand_in[i] >= 0) input_labels[maps.clean.kept[i]] = labels[stand_in[i]];
-  return input_labels;
-}
-
 // `prepared` (without its shape) carried into its working frame turned `turn` times: another
 // start of the optimisation, on the same prepared points.
 PreparedShape turned(PreparedShape prepared, int turn, const Options& options) {
@@ -327,7 +324,7 @@ PreparedShape turned(PreparedShape prepared, int turn, const Options& options) {
 }
 
 // The optimisation, refinement and connectivity on `prepared` (the labels of the input's points
-// are the caller's: see label_input).
+// are the caller's: see input_labels).
 Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCallback& progress) {
   const EvalOptions measure = refinement_eval_options(prepared);
   Pass pass;
@@ -472,7 +469,8 @@ Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Opti
   others_seconds -= runs[best].seconds;
   Pass kept = std::move(runs[best].pass);
   const Result& maps = best == 0 ? kept.result : runs[0].pass.result;
-  kept.result.labels = label_input(maps, kept.state.labels, input_points);
+  kept.result.labels =
+      input_labels(maps.clean.kept, maps.prepare.stand_in, kept.state.labels, input_points);
   if (best != 0) {
     kept.result.clean.kept = std::move(runs[0].pass.result.clean.kept);
     kept.result.prepare.stand_in = std::move(runs[0].pass.result.prepare.stand_in);

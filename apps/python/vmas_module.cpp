@@ -275,6 +275,21 @@ Call call_of(const std::string& caller, const py::object& points, const py::obje
           options_of(caller, keywords)};
 }
 
+// The constructor of a class that prepares its shape as vmas.skeletonize does: the same
+// arguments and keywords (`name` in their errors).
+template <class Class>
+void def_prepared_init(py::class_<Class>& python_class, const char* name, const char* doc) {
+  python_class.def(
+      py::init([name](py::object points, py::object normals, py::object faces, py::object spheres,
+                      py::object error, py::object threads, py::kwargs options) {
+        Call call = call_of(name, points, normals, faces, spheres, error, threads, options);
+        return std::make_unique<Class>(std::move(call.surface), call.options);
+      }),
+      py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
+      py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
+      py::arg("threads") = 0, doc);
+}
+
 // --- results --------------------------------------------------------------------------------
 
 py::dict summary_dict(const RunSummary& s) {
@@ -408,10 +423,7 @@ class InputMap {
 
   // The sphere of every input row, −1 for a row that cleaning or preparation dropped.
   std::vector<int> input_labels(const std::vector<int>& labels) const {
-    std::vector<int> by_row(input_points_, -1);
-    for (std::size_t i = 0; i < stand_in_.size(); ++i)
-      if (stand_in_[i] >= 0) by_row[input_row_[i]] = labels[stand_in_[i]];
-    return by_row;
+    return vmas::input_labels(input_row_, stand_in_, labels, input_points_);
   }
 
   const Frame& frame() const { return frame_; }
@@ -641,22 +653,15 @@ PYBIND11_MODULE(vmas, m) {
       });
 
   using PySk = PythonSkeletonizer;
-  py::class_<PySk>(m, "Skeletonizer",
-                   "The optimisation, step by step, editable between steps (the paper's dynamic "
-                   "editing). Vertex indices are those of the prepared shape (`points`, in the "
-                   "input's coordinates); `labels` are by input row. Calls from several threads "
-                   "take turns.")
-      .def(py::init([](py::object points, py::object normals, py::object faces, py::object spheres,
-                       py::object error, py::object threads, py::kwargs options) {
-             Call call = call_of("Skeletonizer", points, normals, faces, spheres, error, threads,
-                                 options);
-             return std::make_unique<PySk>(std::move(call.surface), call.options);
-           }),
-           py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
-           py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
-           py::arg("threads") = 0,
-           "Prepares the shape as vmas.skeletonize does (same arguments and options) and starts "
-           "from one sphere.")
+  py::class_<PySk> skeletonizer(
+      m, "Skeletonizer",
+      "The optimisation, step by step, editable between steps (the paper's dynamic editing). "
+      "Vertex indices are those of the prepared shape (`points`, in the input's coordinates); "
+      "`labels` are by input row. Calls from several threads take turns.");
+  def_prepared_init(skeletonizer, "Skeletonizer",
+                    "Prepares the shape as vmas.skeletonize does (same arguments and options) and "
+                    "starts from one sphere.");
+  skeletonizer
       .def(
           "step", [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.step(); }); },
           "One partition + update + projection step; returns the total error.")
@@ -749,23 +754,16 @@ PYBIND11_MODULE(vmas, m) {
       });
 
   using PyEdit = PythonEditSession;
-  py::class_<PyEdit>(m, "EditSession",
-                     "The optimisation running in a worker thread while you edit it (the paper's "
-                     "dynamic editing, the engine of `vmas edit`): edits are queued and applied "
-                     "between steps; snapshot() gives the state now. Spheres are named by their "
-                     "keys. Any thread may call it. close() (or leaving a `with` block) stops the "
-                     "worker.")
-      .def(py::init([](py::object points, py::object normals, py::object faces, py::object spheres,
-                       py::object error, py::object threads, py::kwargs options) {
-             Call call = call_of("EditSession", points, normals, faces, spheres, error, threads,
-                                 options);
-             return std::make_unique<PyEdit>(std::move(call.surface), call.options);
-           }),
-           py::arg("points"), py::arg("normals") = py::none(), py::arg("faces") = py::none(),
-           py::kw_only(), py::arg("spheres") = py::none(), py::arg("error") = py::none(),
-           py::arg("threads") = 0,
-           "Prepares the shape as vmas.skeletonize does (same arguments and options) and starts "
-           "optimising at once.")
+  py::class_<PyEdit> edit_session(
+      m, "EditSession",
+      "The optimisation running in a worker thread while you edit it (the paper's dynamic "
+      "editing, the engine of `vmas edit`): edits are queued and applied between steps; "
+      "snapshot() gives the state now. Spheres are named by their keys. Any thread may call it. "
+      "close() (or leaving a `with` block) stops the worker.");
+  def_prepared_init(edit_session, "EditSession",
+                    "Prepares the shape as vmas.skeletonize does (same arguments and options) and "
+                    "starts optimising at once.");
+  edit_session
       .def(
           "remove",
           [](PyEdit& e, std::uint64_t key) {

@@ -126,6 +126,13 @@ struct PreparedShape {
 PreparedShape prepare_shape(SurfaceInput input, const Options& options = {},
                             const ProgressCallback& progress = {});
 
+// The label of each of the `input_points` rows of the input a shape was prepared from: its
+// stand-in's among the prepared shape's vertices (`labels`, by vertex), −1 for a row that
+// cleaning or preparation dropped. `kept` and `stand_in`: the preparation's result.clean.kept
+// and result.prepare.stand_in.
+std::vector<int> input_labels(const std::vector<int>& kept, const std::vector<int>& stand_in,
+                              const std::vector<int>& labels, std::size_t input_points);
+
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
 // its smoothing, and on a smoothed mesh about smoothed_points_needed() of its vertices.
 EvalOptions refinement_eval_options(const PreparedShape& prepared);

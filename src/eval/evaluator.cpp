@@ -62,7 +62,7 @@ constexpr double kStopShare = 0.5;
 // Without a last measurement, the maxima are estimated from every this many samples (the
 // estimates are at most the maxima: the share of them is a threshold that is safe to use).
 constexpr std::size_t kEstimateStride = 16;
-// A `below` of the boundary side that asks for such an estimate.
+// A `below` that asks each side for such an estimate.
 constexpr double kEstimate = -1.0;
 
 // Boundary samples of one measurement at most (a few hundred bytes each while measured).
@@ -84,6 +84,13 @@ double least_of_largest(std::vector<double> values, std::size_t count) {
   std::nth_element(values.begin(), values.begin() + (count - 1), values.end(),
                    std::greater<double>());
   return values[count - 1];
+}
+
+// Below what a side's distances need not be exact: a share of the last measurement's figure
+// (kEstimate without one); 0, every distance exact, unless only maxima are wanted.
+double stop_threshold(const EvalOptions& options, double last) {
+  if (!options.maxima_only) return 0.0;
+  return last > 0.0 ? kStopShare * last : kEstimate;
 }
 
 // The largest distance of every kEstimateStride-th sample to the pieces of `envelope`.
@@ -225,7 +232,7 @@ struct __attribute__((visibility("hidden"))) Evaluator::Impl {
 
   // Surface -> medial distance of every sample: exact where it is `below` or more, and under
   // `below` elsewhere (an upper bound of it, which is all the maximum needs when it is `below` or
-  // more).
+  // more). kEstimate: `below` is a share of the largest distance of a few samples.
   const std::vector<double>& surface_side(const Envelope& envelope, double below);
   // Medial -> surface at the visible uniform samples `spacing` apart: their points and pieces,
   // and their distances to the input: exact where `below` or more, and under `below` elsewhere
@@ -319,6 +326,7 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
 // pieces can be nearer.
 const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope,
                                                           double below) {
+  if (below == kEstimate) below = kStopShare * sparse_maximum(envelope, samples);
   const bool reuse = !memory.surface.distance.empty();
   FreshPrimitives fresh_pieces;
   if (reuse)
@@ -412,7 +420,7 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
                                          std::numeric_limits<double>::quiet_NaN());
       }
     }
-    for (int j = 0; j < static_cast<int>(entry->second.points.size()); ++j)
+    for (int j = 0; j < static_cast<int>(samples_of_piece.points.size()); ++j)
       flat.emplace_back(static_cast<int>(by_piece.size()) - 1, j);
   }
   find_hiders(envelope, fresh_solids, solids_now, by_piece, flat, tolerance);
@@ -498,10 +506,9 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   EvalResult result;
   result.diagonal = impl_->diagonal;
   // Only the maximum is wanted: samples stop at the first piece nearer than a share of the last
-  // maximum, and are measured again exactly in the rare case that the maximum is below that.
-  double below = options.maxima_only ? kStopShare * impl_->last_surface_max : 0.0;
-  if (options.maxima_only && impl_->last_surface_max == 0.0)
-    below = kStopShare * sparse_maximum(envelope, impl_->samples);
+  // maximum, and are measured again exactly in the rare case that the maximum is below that (an
+  // estimate is at most the maximum).
+  const double below = stop_threshold(options, impl_->last_surface_max);
   const std::vector<double>* surface_side = &impl_->surface_side(envelope, below);
   if (below > 0.0 && max_and_mean(*surface_side).first < below)
     surface_side = &impl_->surface_side(envelope, 0.0);
@@ -518,11 +525,7 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // share of the last measurement's smallest of those, and are measured again exactly in the
   // rare case that fewer are above it.
   const std::size_t refined = static_cast<std::size_t>(options.refined_samples);
-  // (With no last measurement: estimated from a few samples.)
-  const double boundary_below =
-      !options.maxima_only                ? 0.0
-      : impl_->last_refined_least > 0.0 ? kStopShare * impl_->last_refined_least
-                                        : kEstimate;
+  const double boundary_below = stop_threshold(options, impl_->last_refined_least);
   BoundarySamples boundary;
   std::vector<double> to_surface;
   impl_->boundary_side(envelope, spacing, tolerance, boundary_below, boundary, to_surface);
