@@ -187,7 +187,7 @@ std::string describe(const Progress& p) {
   char line[160];
   switch (p.phase) {
     case Progress::Phase::Preparing:
-      std::snprintf(line, sizeof line, "preparing");
+      std::snprintf(line, sizeof line, "preparing, %.0f %%", 100.0 * p.fraction);
       break;
     case Progress::Phase::Optimising:
       if (p.target_spheres > 0)
@@ -197,12 +197,24 @@ std::string describe(const Progress& p) {
         std::snprintf(line, sizeof line, "spheres %d, iteration %d, error %.3e", p.spheres,
                       p.iteration, p.error);
       break;
+    case Progress::Phase::Settling:
+      std::snprintf(line, sizeof line, "spheres %d, settling, step %d of at most %d, error %.3e",
+                    p.spheres, p.round, p.rounds, p.error);
+      break;
     case Progress::Phase::FinalRefit:
       std::snprintf(line, sizeof line, "final refit %d/%d", p.round, p.rounds);
       break;
     case Progress::Phase::Refining:
       std::snprintf(line, sizeof line, "refining, move %d/%d, epsilon %.3f %%", p.round, p.rounds,
                     100.0 * p.error);
+      break;
+    case Progress::Phase::OtherStarts:
+      std::snprintf(line, sizeof line, "start %d of %d, %.0f %%", p.round, p.rounds,
+                    100.0 * p.fraction);
+      break;
+    case Progress::Phase::SmoothingCheck:
+      std::snprintf(line, sizeof line, "checking the smoothing: the points as they are, %.0f %%",
+                    100.0 * p.fraction);
       break;
   }
   return line;

@@ -248,9 +248,13 @@ void smooth_noisy_mesh(SurfaceInput& surface, PrepareReport& report,
   report.residual_noise = estimate_noise(surface.points).sigma;
 }
 
+// Stages of smooth_noisy_cloud that prepare_surface reports (each a call of `stage_done`).
+constexpr int kSmoothingStages = 2;
+
 // MLS smoothing of a noisy cloud; returns the smoothed surface's (unoriented) normals.
 std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& report,
-                                     const PrepareOptions& options) {
+                                     const PrepareOptions& options,
+                                     const std::function<void()>& stage_done) {
   // The support must hold enough samples for a quadric fit even when the noise is far below
   // the spacing.
   const auto radius_for = [&](double sigma) {
@@ -278,9 +282,11 @@ std::vector<Vec3> smooth_noisy_cloud(SurfaceInput& surface, PrepareReport& repor
       if (read_low) report.noise.sigma = moved;
     }
   }
+  stage_done();
   report.mls_radius = radius_for(scale);
   std::vector<Vec3> raw = surface.points;
   std::vector<Vec3> normals = smooth_mls(surface.points, report.mls_radius);
+  stage_done();
   const std::vector<int> supported = supported_by_noise(
       surface.points, raw, std::max(scale, 2.0 * report.noise.spacing));
   drop_all_but(supported, surface, report);
@@ -331,8 +337,10 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   options.validate();
   const auto start = std::chrono::steady_clock::now();
   int stage = 0;
-  const auto stage_done = [&] {
-    if (keep_going && !keep_going(++stage)) throw Cancelled();
+  // `count`: stages skipped included.
+  const auto stage_done = [&](int count = 1) {
+    stage += count;
+    if (keep_going && !keep_going(stage)) throw Cancelled();
   };
   PrepareReport report;
   report.kept.resize(surface.points.size());
@@ -341,7 +349,7 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   report.frame = working_frame(surface.points);
   for (Vec3& p : surface.points) p = report.frame.to_working(p);
   for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
-
+  stage_done();
   thin_big_cloud(surface, report, static_cast<std::size_t>(options.max_points));
   stage_done();
   const bool noise_measured = drop_outliers(surface, report, options);
@@ -352,13 +360,15 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   report.diagonal = diagonal_of(bounding_box(surface.points));
   const bool noisy = is_noisy_input(surface, report, options, noise_measured);
   std::vector<Vec3> smoothed_normals;
-  if (!noisy)
+  if (!noisy) {
     report.residual_noise = report.noise.sigma;
-  else if (surface.is_mesh())
+    stage_done(kSmoothingStages);
+  } else if (surface.is_mesh()) {
     smooth_noisy_mesh(surface, report, options);
-  else {
+    stage_done(kSmoothingStages);
+  } else {
     neighbours.reset();  // the smoothing moves the points
-    smoothed_normals = smooth_noisy_cloud(surface, report, options);
+    smoothed_normals = smooth_noisy_cloud(surface, report, options, [&] { stage_done(); });
   }
   stage_done();
   // Only a clean mesh: a smoothed one's thin faces are the noise's, not an exporter's.

@@ -284,12 +284,15 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
     aim_uncovered = !aim_uncovered;
     return true;
   };
+  const auto report_progress = [&](double fraction) {
+    return !progress ||
+           progress(Progress{Progress::Phase::Refining, report.tried,
+                             static_cast<int>(skeletonizer.spheres().size()),
+                             skeletonizer.options().target.count(), best.hausdorff / best.diagonal,
+                             report.tried + 1, options.max_moves, fraction});
+  };
   while (report.tried < options.max_moves) {
-    if (progress &&
-        !progress(Progress{Progress::Phase::Refining, report.tried,
-                           static_cast<int>(skeletonizer.spheres().size()),
-                           skeletonizer.options().target.count(), best.hausdorff / best.diagonal,
-                           report.tried + 1, options.max_moves})) {
+    if (!report_progress(double(report.tried) / options.max_moves)) {
       report.cancelled = true;
       break;
     }
@@ -333,6 +336,8 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
   }
   for (int c = 0; c < static_cast<int>(placed.size()); ++c)
     if (placed[c]) skeletonizer.freeze(c, false);
+  // Done: a cancellation now would cost the work, not save it.
+  if (!report.cancelled) report_progress(1.0);
   report.error_after = best.hausdorff;
   report.seconds = internal::seconds_since(start);
   return report;

@@ -223,11 +223,15 @@ int Skeletonizer::sphere_cap() const {
   return std::min(options_.max_spheres, shape_.size());
 }
 
-bool Skeletonizer::misses_error_threshold() const {
-  const double threshold = std::pow(options_.target.error * shape_.diagonal, 2);
+double Skeletonizer::worst_free_cluster_error() const {
+  double worst = 0.0;
   for (std::size_t c = 0; c < spheres_.size(); ++c)
-    if (!frozen_[c] && cluster_errors_[c] > threshold) return true;
-  return false;
+    if (!frozen_[c]) worst = std::max(worst, cluster_errors_[c]);
+  return worst;
+}
+
+bool Skeletonizer::misses_error_threshold() const {
+  return worst_free_cluster_error() > std::pow(options_.target.error * shape_.diagonal, 2);
 }
 
 bool Skeletonizer::wants_more_spheres() const {
@@ -306,11 +310,11 @@ Turn Skeletonizer::advance() {
 
 RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   RunSummary summary;
-  const auto report = [&](Progress::Phase phase, double error, int round) {
+  const auto report = [&](Progress::Phase phase, double error, int round, int rounds,
+                          double fraction) {
     summary.cancelled =
-        progress &&
-        !progress(Progress{phase, summary.iterations, static_cast<int>(spheres_.size()),
-                           options_.target.count(), error, round, options_.final_rounds});
+        progress && !progress(Progress{phase, summary.iterations, static_cast<int>(spheres_.size()),
+                                       options_.target.count(), error, round, rounds, fraction});
     return !summary.cancelled;
   };
   const auto finish = [&] {
@@ -321,14 +325,30 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
     summary.error_threshold_missed = options_.target.count() == 0 && misses_error_threshold();
     return summary;
   };
-  const int coarse_iterations = start_coarse(progress, summary.cancelled);
-  summary.iterations = coarse_iterations;
+  // After a coarse start, its settling is the first half of the phase (its growth is all of
+  // Optimising).
+  const bool coarse = start_coarse(progress, summary);
   if (summary.cancelled) return finish();
   restart_schedule();
-  for (int iteration = coarse_iterations + 1; iteration <= options_.max_iterations; ++iteration) {
+  const double settled_before = coarse ? 0.5 : 0.0;
+  double grown = coarse ? 1.0 : 0.0;  // Optimising's fraction: it never falls
+  double first_worst = 0.0;  // with an error threshold: the worst cluster's error at first
+  for (int iteration = summary.iterations + 1; iteration <= options_.max_iterations; ++iteration) {
     const Turn turn = advance();
     summary.iterations = iteration;
-    if (!report(Progress::Phase::Optimising, turn.error, 0)) return finish();
+    const bool growing = turn.split > 0 || wants_more_spheres();
+    // When growth ends (the count or the threshold met, or the sphere cap), the phase is done.
+    if ((growing || grown < 1.0) &&
+        !report(Progress::Phase::Optimising, turn.error, 0, 0,
+                grown = growing ? std::max(grown, growth_fraction(first_worst)) : 1.0))
+      return finish();
+    if (!growing &&
+        !report(Progress::Phase::Settling, turn.error, since_split_,
+                options_.max_settle_iterations,
+                turn.done ? 1.0
+                          : settled_before + (1.0 - settled_before) * since_split_ /
+                                                 options_.max_settle_iterations))
+      return finish();
     if (turn.done) {
       summary.converged = turn.converged;
       break;
@@ -339,24 +359,44 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   // rounds re-partition first, so that the vertices follow the moved spheres.
   for (int round = 0; round < options_.final_rounds; ++round) {
     final_refit(round);
-    if (!report(Progress::Phase::FinalRefit, total_error_, round + 1)) break;
+    if (!report(Progress::Phase::FinalRefit, total_error_, round + 1, options_.final_rounds,
+                double(round + 1) / options_.final_rounds))
+      break;
   }
   return finish();
 }
 
-int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled) {
+double Skeletonizer::growth_fraction(double& first_worst) const {
+  if (options_.target.count() > 0)
+    return std::min(1.0, double(spheres_.size()) / options_.target.count());
+  const double worst = worst_free_cluster_error();
+  const double threshold = std::pow(options_.target.error * shape_.diagonal, 2);
+  if (first_worst == 0.0) first_worst = worst;
+  if (worst <= threshold) return 1.0;
+  if (first_worst <= threshold || worst >= first_worst) return 0.0;
+  return std::log(first_worst / worst) / std::log(first_worst / threshold);
+}
+
+bool Skeletonizer::start_coarse(const ProgressCallback& progress, RunSummary& summary) {
   const std::size_t vertices = shape_.size();
   const std::size_t target = options_.target.count();
   const std::size_t budget = std::max(vertices / kCoarseShare, kCoarseVerticesPerSphere * target);
   if (!options_.coarse_start || target == 0 || spheres_.size() != 1 ||
       budget > kCoarseAtMost * vertices)
-    return 0;
+    return false;
   SkeletonizerOptions coarse_options = options_;
   coarse_options.coarse_start = false;
   coarse_options.final_rounds = 0;  // the full shape's steps follow
   Skeletonizer coarse(coarsen_shape(shape_, budget), coarse_options);
-  const RunSummary summary = coarse.run(progress);
-  cancelled = summary.cancelled;
+  // Its settling is the first half of the run's.
+  const ProgressCallback halved = [&](const Progress& p) {
+    Progress q = p;
+    if (q.phase == Progress::Phase::Settling) q.fraction *= 0.5;
+    return !progress || progress(q);
+  };
+  const RunSummary coarse_summary = coarse.run(halved);
+  summary.cancelled = coarse_summary.cancelled;
+  summary.iterations = coarse_summary.iterations;
   spheres_ = coarse.spheres();
   frozen_.assign(spheres_.size(), false);
   keys_ = coarse.keys_;
@@ -364,7 +404,7 @@ int Skeletonizer::start_coarse(const ProgressCallback& progress, bool& cancelled
   energies_current_ = false;
   repartition();
   times_ += coarse.times();
-  return summary.iterations;
+  return true;
 }
 
 void Skeletonizer::final_refit(int round) {

@@ -48,8 +48,9 @@ std::uint8_t group_of(const std::vector<std::uint8_t>& groups, std::size_t i) {
 std::size_t occupied_cells(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& groups,
                            const Grid& grid, std::vector<std::uint64_t>& keys) {
   keys.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    keys[i] = grid.key(points[i], group_of(groups, i));
+  const auto n = static_cast<std::ptrdiff_t>(points.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) keys[i] = grid.key(points[i], group_of(groups, i));
   internal::radix_sort(keys);
   return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
@@ -123,7 +124,9 @@ Subsample subsample(const std::vector<Vec3>& points, std::size_t budget,
     cell.position = static_cast<int>(
         std::lower_bound(result.kept.begin(), result.kept.end(), cell.point) - result.kept.begin());
   result.representative.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < count; ++i)
     result.representative[i] = cells.at(grid.key(points[i], group_of(groups, i))).position;
   result.leaf = grid.leaf;
   return result;

@@ -5,12 +5,16 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <future>
 #include <memory>
-#include <utility>
+#include <mutex>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "connectivity.hpp"
+#include "eval/envelope.hpp"
 #include "normals.hpp"
 #include "stopwatch.hpp"
 #include "validate_member.hpp"
@@ -205,6 +209,7 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
     now.target_spheres = prepared.run.target.count();
     now.round = done;
     now.rounds = kStages;
+    now.fraction = double(done) / kStages;
     return !progress || progress(now);
   };
   int done = 0;
@@ -405,12 +410,27 @@ int thread_budget(int threads) {
 #endif
 }
 
+// How far one pass is, from its progress in one of its phases (Preparing to Refining): the
+// phases' rough shares of a pass's time, so that the fraction rises once over the pass.
+double pass_fraction(const Progress& p) {
+  constexpr double kPhaseEnds[] = {0.1, 0.5, 0.7, 0.75, 1.0};
+  const int phase = static_cast<int>(p.phase);
+  if (phase > static_cast<int>(Progress::Phase::Refining))
+    throw std::logic_error("pass_fraction: not a phase of one pass");
+  const double from = phase == 0 ? 0.0 : kPhaseEnds[phase - 1];
+  return from + (kPhaseEnds[phase] - from) * p.fraction;
+}
+
+// How often the calling thread reports the other starts' progress while it waits for them.
+constexpr auto kWaitReportInterval = std::chrono::milliseconds(100);
+
 // run_pass() on `prepared` in each of options.starts turns of the working frame: the pass with
 // the least measured error (the first among equals) among those whose skeleton has no more
 // pieces than the input. With a thread for
 // each, the starts run side by side (the optimisation's serial parts leave cores idle: two starts
 // took 1.3-1.5 times one start's time, against 2 one after the other); the calling thread runs
-// the first and reports its progress, and the others stop when it is cancelled.
+// the first and reports its progress, then the others' (Phase::OtherStarts; only the calling
+// thread calls `progress`), and the others stop when it is cancelled.
 Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Options& options,
                     const ProgressCallback& progress) {
   const int threads = thread_budget(options.threads);
@@ -433,20 +453,51 @@ Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Opti
     run.seconds = seconds_since(start_time);
     return run;
   };
-  const ProgressCallback lead = [&](const Progress& p) {
-    if (progress && !progress(p)) stop = true;
+  const auto report = [&](const Progress& p) {
+    if (!stop && progress && !progress(p)) stop = true;
     return !stop;
   };
-  const ProgressCallback follow = [&](const Progress&) { return !stop; };
+  const auto report_other = [&](int start, const Progress& inner) {
+    Progress p = inner;
+    p.phase = Progress::Phase::OtherStarts;
+    p.round = start + 1;
+    p.rounds = options.starts;
+    p.fraction = (start - 1 + pass_fraction(inner)) / (options.starts - 1);
+    return report(p);
+  };
+  // Side by side, each other start leaves its last progress here for the calling thread.
+  std::mutex latest_mutex;
+  std::vector<Progress> latest(options.starts);
   std::vector<std::future<Run>> others;
   if (side_by_side)
     for (int start = 1; start < options.starts; ++start)
-      others.push_back(std::async(std::launch::async, run_start, start, follow));
+      others.push_back(std::async(std::launch::async, run_start, start,
+                                  [&, start](const Progress& p) {
+                                    const std::lock_guard<std::mutex> lock(latest_mutex);
+                                    latest[start] = p;
+                                    return !stop;
+                                  }));
   std::vector<Run> runs;
   try {
-    runs.push_back(run_start(0, lead));
-    for (int start = 1; start < options.starts; ++start)
-      runs.push_back(side_by_side ? others[start - 1].get() : run_start(start, lead));
+    runs.push_back(run_start(0, report));
+    for (int start = 1; start < options.starts; ++start) {
+      if (!side_by_side) {
+        runs.push_back(run_start(start, [&](const Progress& p) { return report_other(start, p); }));
+        continue;
+      }
+      while (others[start - 1].wait_for(kWaitReportInterval) != std::future_status::ready)
+        report_other(start, [&] {
+          const std::lock_guard<std::mutex> lock(latest_mutex);
+          return latest[start];
+        }());
+      runs.push_back(others[start - 1].get());
+    }
+    if (options.starts > 1) {  // done: a cancellation now would cost the work, not save it
+      Progress last_pass_ended;
+      last_pass_ended.phase = Progress::Phase::Refining;
+      last_pass_ended.fraction = 1.0;
+      report_other(options.starts - 1, last_pass_ended);
+    }
   } catch (...) {
     stop = true;
     for (auto& other : others)
@@ -504,6 +555,9 @@ constexpr double kLostPartNoises = 6.0;
 // ... each with this many others as far within this many spacings (strays are alone).
 constexpr int kLostPartNeighbours = 2;
 constexpr double kLostPartReach = 3.0;
+// The share of Progress::Phase::SmoothingCheck that looking for a lost part takes (the rest is
+// the second pass, when there is one).
+constexpr double kLostPartShare = 0.1;
 
 // The noise measured on a prepared input, as a fraction of its diagonal.
 double noise_fraction(const PrepareReport& prepared) {
@@ -528,19 +582,18 @@ SurfaceInput points_as_they_are(const SurfaceInput& input, const Result& result)
 }
 
 // Whether input points as they are (`points`) that the skeleton of `smoothed` lies far from are
-// next to one another: a part the smoothing took away.
-bool lost_a_part(const Result& smoothed, const SurfaceInput& points) {
+// next to one another: a part the smoothing took away. `go_on` as points_farther_than's.
+bool lost_a_part(const Result& smoothed, const SurfaceInput& points,
+                 const std::function<bool(double)>& go_on) {
   const PrepareReport& prepared = smoothed.prepare;
   if (!(prepared.diagonal > 0.0)) return false;
-  // Only the distance of every point to the skeleton counts: the other side is measured coarsely.
-  EvalOptions coverage = refinement_eval_options(false);
-  coverage.maxima_only = false;
-  const EvalResult fit = evaluate(points, smoothed.medial_mesh, coverage);
-  const double far =
-      fit.diagonal * (smoothed.measured_error + kLostPartNoises * noise_fraction(prepared));
+  Box bounds;
+  for (const Vec3& p : points.points) bounds.extend(p);
+  const double far = bounds.diagonal().norm() *
+                     (smoothed.measured_error + kLostPartNoises * noise_fraction(prepared));
   std::vector<Vec3> far_points;
-  for (std::size_t i = 0; i < fit.vertex_error.size(); ++i)
-    if (fit.vertex_error[i] > far) far_points.push_back(points.points[i]);
+  for (int i : points_farther_than(smoothed.medial_mesh, points.points, far, go_on))
+    far_points.push_back(points.points[i]);
   if (far_points.size() <= static_cast<std::size_t>(kLostPartNeighbours)) return false;
   const KdTree tree(far_points);
   const double reach = kLostPartReach * prepared.noise.spacing * prepared.frame.scale;
@@ -561,7 +614,19 @@ void check_smoothing(Pass& smoothed, double smoothed_seconds, const SurfaceInput
   const auto start = Clock::now();
   Options as_they_are = options;
   as_they_are.prepare.denoise = PrepareOptions::Denoise::Off;
-  Pass unsmoothed = best_start(input, as_they_are, progress);
+  // The pass is the rest of the phase: the first start's share of it, then the other starts'.
+  const int starts = options.starts;
+  const ProgressCallback checking = [&](const Progress& inner) {
+    if (!progress) return true;
+    Progress p = inner;
+    p.phase = Progress::Phase::SmoothingCheck;
+    const double pass = inner.phase == Progress::Phase::OtherStarts
+                            ? (1.0 + (starts - 1) * inner.fraction) / starts
+                            : pass_fraction(inner) / starts;
+    p.fraction = kLostPartShare + (1.0 - kLostPartShare) * pass;
+    return progress(p);
+  };
+  Pass unsmoothed = best_start(input, as_they_are, checking);
   const double unsmoothed_seconds = seconds_since(start);
   const auto judging_start = Clock::now();
   EvalOptions reach;
@@ -629,10 +694,19 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
     const double smoothed_seconds = seconds_since(start);
     const auto judging_start = Clock::now();
     const SurfaceInput points = points_as_they_are(input, pass.result);
-    const bool check =
-        pass.result.measured_error > kLargeError || lost_a_part(pass.result, points);
+    const auto checking = [&](double fraction) {
+      Progress p;
+      p.phase = Progress::Phase::SmoothingCheck;
+      p.fraction = fraction;
+      return !progress || progress(p);
+    };
+    const bool check = pass.result.measured_error > kLargeError ||
+                       lost_a_part(pass.result, points, [&](double searched) {
+                         return checking(kLostPartShare * searched);
+                       });
     pass.result.seconds.smoothing_check = seconds_since(judging_start);
     if (check) check_smoothing(pass, smoothed_seconds, input, points, options, progress);
+    checking(1.0);  // done: a cancellation now would cost the work, not save it
   }
   Result result = std::move(pass.result);
   if (options.run.open_cavities) result.medial_mesh = without_cavities(std::move(result.medial_mesh));

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <map>
 #include <random>
 #include <string>
 
@@ -133,6 +135,60 @@ TEST(OneCall, ReportsEveryPhaseAndCancelsWhenTheCallbackSaysSo) {
                Cancelled);
   EXPECT_EQ(steps, 3);
   EXPECT_THROW(skeletonize(cloud, options, [](const Progress&) { return false; }), Cancelled);
+}
+
+// What a run's progress reports said: the phases in the order they came (each once), and the
+// fractions of each.
+struct PhaseLog {
+  std::vector<Progress::Phase> order;
+  std::map<Progress::Phase, std::vector<double>> fractions;
+
+  bool operator()(const Progress& p) {
+    if (order.empty() || order.back() != p.phase) order.push_back(p.phase);
+    fractions[p.phase].push_back(p.fraction);
+    return true;
+  }
+};
+
+// Every phase comes once, in the documented order, and its fraction rises from where it starts
+// to 1 (Progress).
+void expect_each_phase_rises_once_to_one(const PhaseLog& log) {
+  EXPECT_TRUE(std::is_sorted(log.order.begin(), log.order.end()));
+  EXPECT_EQ(std::adjacent_find(log.order.begin(), log.order.end()), log.order.end());
+  for (const auto& [phase, fractions] : log.fractions) {
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end())) << static_cast<int>(phase);
+    EXPECT_GE(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0) << static_cast<int>(phase);
+  }
+}
+
+TEST(OneCall, EveryPhasesFractionRisesFromZeroToOneOnce) {
+  const SurfaceInput cloud = capsule_cloud();
+  Options options;
+  options.run.target.spheres = 6;
+  for (int threads : {1, 2}) {  // the second start after the first, or beside it
+    options.threads = threads;
+    PhaseLog log;
+    skeletonize(cloud, options, std::ref(log));
+    expect_each_phase_rises_once_to_one(log);
+    using Phase = Progress::Phase;
+    for (Phase phase : {Phase::Preparing, Phase::Optimising, Phase::Settling, Phase::FinalRefit,
+                        Phase::Refining, Phase::OtherStarts})
+      EXPECT_EQ(log.fractions.count(phase), 1u) << threads << " " << static_cast<int>(phase);
+  }
+  // An error threshold: Optimising rises with the worst cluster's error.
+  options.run.target = Target{};
+  options.run.target.error = 0.02;
+  PhaseLog log;
+  skeletonize(cloud, options, std::ref(log));
+  expect_each_phase_rises_once_to_one(log);
+  EXPECT_GT(log.fractions[Progress::Phase::Optimising].size(), 2u);
+  // Cancelled while the second start runs after the first.
+  options.threads = 1;
+  const auto until_other_starts = [](const Progress& p) {
+    return p.phase != Progress::Phase::OtherStarts;
+  };
+  EXPECT_THROW(skeletonize(cloud, options, until_other_starts), Cancelled);
 }
 
 SurfaceInput box_cloud() {

@@ -372,14 +372,10 @@ struct PythonProgress {
       return false;
     }
     if (callback.is_none()) return true;
-    static const char* const kPhases[] = {"preparing", "optimising", "final_refit", "refining"};
-    double fraction = 0.0;
-    if (p.phase == Progress::Phase::Preparing && p.rounds > 0) fraction = double(p.round) / p.rounds;
-    if (p.phase == Progress::Phase::Optimising && p.target_spheres > 0)
-      fraction = std::min(1.0, double(p.spheres) / p.target_spheres);
-    if (p.phase == Progress::Phase::FinalRefit && p.rounds > 0)
-      fraction = double(p.round) / p.rounds;
-    if (p.phase == Progress::Phase::Refining && p.rounds > 0) fraction = double(p.round) / p.rounds;
+    static const char* const kPhases[] = {"preparing",   "optimising", "settling",
+                                          "final_refit", "refining",   "other_starts",
+                                          "smoothing_check"};
+    const double fraction = p.fraction;
     try {
       const py::object go_on = callback(kPhases[static_cast<int>(p.phase)], fraction);
       return go_on.is_none() || go_on.cast<bool>();
@@ -866,7 +862,10 @@ faces:    (F, 3) integer array for a triangle mesh, or None for a cloud
 spheres:  spheres to produce (default 100 when error is None), or
 error:    split until every cluster's RMS error is below this fraction of the diagonal
 threads:  OpenMP threads (0: all cores)
-progress: callable(phase, fraction) -> bool, called from this thread; False cancels
+progress: callable(phase, fraction) -> bool, called from this thread; False cancels. The
+          phases, in order (some may be skipped): "preparing", "optimising" (spheres added),
+          "settling", "final_refit", "refining", "other_starts", "smoothing_check"; the
+          fraction rises from 0 to 1 once in each
 options:  every option of `vmas skeletonize --help`, spelled with '_' for '-': lambda_ (or
           **{"lambda": 0.1}), final_lambda, final_rounds, refine_moves, k, normal_k,
           max_points, denoise ("auto", "off", 0.005 or "0.5%"), estimate_normals=True,

@@ -115,7 +115,7 @@ struct PrepareReport {
 // `keep_going` (optional) is called between stages, so that a long preparation can be stopped
 // (vmas::Cancelled is thrown when it returns false) and followed: its argument is the stages
 // done so far, of kPrepareStages.
-constexpr int kPrepareStages = 5;
+constexpr int kPrepareStages = 8;
 PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& options,
                               const std::function<bool(int)>& keep_going = {});
 

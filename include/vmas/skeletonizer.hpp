@@ -103,18 +103,36 @@ struct Timings {
 };
 
 struct Progress {
-  // Preparing: vmas::skeletonize before the run (cleaning, denoising, normals, the shape);
-  // Optimising: after every partition + update step; FinalRefit: after every final refit;
-  // Refining: before every move of the worst-case refinement (vmas/refine.hpp), whose error is
-  // the measured two-sided error relative to the diagonal.
-  enum class Phase { Preparing, Optimising, FinalRefit, Refining };
+  // The phases in the order a run goes through them; `fraction` rises from 0 to 1 once in each
+  // (a phase may be skipped, and may end before its fraction reaches 1).
+  // Preparing: vmas::skeletonize's stages before the run (round: stages done of rounds).
+  // Optimising: after every step while spheres are still added (fraction: spheres of
+  //   target_spheres; with an error threshold, how far the worst cluster's error has come down
+  //   to it, on a log scale).
+  // Settling: after every step once no sphere is missing (round: steps since the last split,
+  //   of at most rounds; 1 when the spheres have settled).
+  // FinalRefit: after every final refit (round of rounds).
+  // Refining: before every move of the worst-case refinement (vmas/refine.hpp; round of at most
+  //   rounds; error: the measured two-sided error / diagonal), and once when it ends.
+  // OtherStarts: vmas::skeletonize's starts after the first (round: this start, of rounds),
+  //   while they run one after the other or while the first waits for them.
+  // SmoothingCheck: vmas::skeletonize's second pass over the points as they are (docs/noise.md).
+  enum class Phase {
+    Preparing,
+    Optimising,
+    Settling,
+    FinalRefit,
+    Refining,
+    OtherStarts,
+    SmoothingCheck
+  };
   Phase phase = Phase::Optimising;
   int iteration = 0;          // steps so far
   int spheres = 0;            // spheres now
   int target_spheres = 0;     // the count asked for (0: an error threshold)
   double error = 0.0;         // total error Σ E_v / A(shape)
-  int round = 0, rounds = 0;  // FinalRefit: this round (1-based) of how many; Preparing: the
-                              // stages done of how many
+  int round = 0, rounds = 0;  // as the phase says
+  double fraction = 0.0;      // of the phase done, in [0, 1]
 };
 
 // Called from the thread that runs the optimisation; returning false stops it there.
@@ -210,8 +228,12 @@ class Skeletonizer {
 
  private:
   // The coarse start of run() when it applies: runs a skeletonizer on the coarsened shape and
-  // takes its spheres; returns its steps (0 when it does not apply).
-  int start_coarse(const ProgressCallback& progress, bool& cancelled);
+  // takes its spheres; counts its steps and cancellation in `summary`; false when it does not
+  // apply.
+  bool start_coarse(const ProgressCallback& progress, RunSummary& summary);
+  // Optimising's fraction (Progress) now; `first_worst` keeps the worst cluster's error at the
+  // first call, from which an error threshold's fraction is counted.
+  double growth_fraction(double& first_worst) const;
   void repartition();      // partition, then refresh members and errors
   void rebuild_members();  // members_ from labels_
   // Moves spheres with too few vertices to the worst vertices of the worst clusters; true if any
@@ -220,6 +242,7 @@ class Skeletonizer {
   bool reseed_tiny_clusters(bool serving_balls_only = false);
   int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
   bool misses_error_threshold() const;  // some free cluster's E(C) is above the threshold
+  double worst_free_cluster_error() const;  // the largest E(C) of a free cluster (0: none)
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void check_target_fits(const Target& target) const;  // InvalidOption: more spheres than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "radix_sort.hpp"
 #include "sphere_lattice.hpp"
 #include "vmas/error.hpp"
 
@@ -96,6 +97,34 @@ Numbered numbered(int id, std::size_t spheres, std::size_t cones, typename Numbe
 }
 
 }  // namespace
+
+std::vector<int> z_order(const std::vector<Vec3>& points) {
+  Box box;
+  for (const Vec3& p : points) box.extend(p);
+  const Vec3 size = box.sizes().cwiseMax(1e-300);
+  // The 10 bits of a cell coordinate spread to every third bit.
+  const auto spread = [](std::uint64_t x) {
+    x = (x | (x << 16)) & 0x30000ffULL;
+    x = (x | (x << 8)) & 0x300f00fULL;
+    x = (x | (x << 4)) & 0x30c30c3ULL;
+    return (x | (x << 2)) & 0x9249249ULL;
+  };
+  std::vector<std::uint64_t> keys(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::uint64_t code = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double cell = std::floor((points[i][c] - box.min()[c]) / size[c] * 1023.0 + 0.5);
+      code |= spread(static_cast<std::uint64_t>(std::clamp(cell, 0.0, 1023.0))) << c;
+    }
+    keys[i] = (code << 32) | i;
+  }
+  internal::radix_sort(keys);
+  std::vector<int> order(points.size());
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    order[k] = static_cast<int>(keys[k] & 0xffffffffULL);
+  return order;
+}
+
 
 void check_medial(const MedialMesh& medial) {
   if (medial.spheres.empty()) throw InvalidInput("medial mesh has no sphere");
@@ -362,6 +391,13 @@ bool Envelope::project_onto_piece(const Vec3& q, int id, Vec3& projected) const 
 
 }  // namespace internal
 
+namespace {
+
+// Points searched between two calls of points_farther_than's `go_on`.
+constexpr std::ptrdiff_t kFartherBlock = 1 << 16;
+
+}  // namespace
+
 std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, double tolerance) {
   const internal::Envelope envelope(medial);
   return envelope.visible(envelope.sample_boundaries(spacing), tolerance).points;
@@ -374,6 +410,32 @@ std::vector<double> envelope_distances(const MedialMesh& medial, const std::vect
 #pragma omp parallel for schedule(dynamic, 4096)
   for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] = envelope.boundary_distance(points[i]);
   return distances;
+}
+
+std::vector<int> points_farther_than(const MedialMesh& medial, const std::vector<Vec3>& points,
+                                     double distance, const std::function<bool(double)>& go_on) {
+  const internal::Envelope envelope(medial);
+  const std::vector<int> visit = internal::z_order(points);
+  std::vector<char> far(points.size(), 0);
+  const auto count = static_cast<std::ptrdiff_t>(points.size());
+  for (std::ptrdiff_t block = 0; block < count; block += kFartherBlock) {
+    if (go_on && !go_on(double(block) / double(count))) throw Cancelled();
+    const std::ptrdiff_t end = std::min(count, block + kFartherBlock);
+#pragma omp parallel
+    {
+      int piece = -1;  // the last one found by this thread: neighbours in `visit` share it
+#pragma omp for schedule(dynamic, 1024)
+      for (std::ptrdiff_t k = block; k < end; ++k) {
+        const int i = visit[k];
+        // Stopped early, the distance is below `distance`; otherwise it is exact.
+        far[i] = envelope.nearest_piece(points[i], piece, distance) > distance;
+      }
+    }
+  }
+  std::vector<int> farther;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (far[i]) farther.push_back(static_cast<int>(i));
+  return farther;
 }
 
 }  // namespace vmas

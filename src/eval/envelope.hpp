@@ -4,6 +4,7 @@
 // the reconstruction's surface?), each with a key that recognises it in the next medial mesh.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -22,7 +23,17 @@ std::vector<Vec3> envelope_samples(const MedialMesh& medial, double spacing, dou
 // any primitive, as evaluate() measures it. Validates `medial` like evaluate().
 std::vector<double> envelope_distances(const MedialMesh& medial, const std::vector<Vec3>& points);
 
+// The indices, in order, of the points farther than `distance` from the boundary of every
+// primitive (as envelope_distances measures, each search stopping at the first piece nearer).
+// `go_on(share of the points searched)` is called from the calling thread between blocks of
+// points; false throws Cancelled.
+std::vector<int> points_farther_than(const MedialMesh& medial, const std::vector<Vec3>& points,
+                                     double distance, const std::function<bool(double)>& go_on);
+
 namespace internal __attribute__((visibility("hidden"))) {
+
+// The indices of `points` along a Z-order curve over their bounding box (1024 cells a side).
+std::vector<int> z_order(const std::vector<Vec3>& points);
 
 // Throws InvalidInput for an empty medial mesh, an index out of range or repeated within an
 // element, or a radius that is negative or not finite.

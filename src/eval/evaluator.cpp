@@ -12,7 +12,6 @@
 
 #include "eval/envelope.hpp"
 #include "eval/shape_distance.hpp"
-#include "radix_sort.hpp"
 #include "subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
@@ -101,34 +100,6 @@ double sparse_maximum(const Envelope& envelope, const std::vector<Vec3>& samples
   for (std::ptrdiff_t k = 0; k < strides; ++k)
     largest = std::max(largest, envelope.boundary_distance(samples[k * kEstimateStride]));
   return largest;
-}
-
-// The indices of `points` along a Z-order curve over their bounding box (1024 cells a side).
-std::vector<int> z_order(const std::vector<Vec3>& points) {
-  Box box;
-  for (const Vec3& p : points) box.extend(p);
-  const Vec3 size = box.sizes().cwiseMax(1e-300);
-  // The 10 bits of a cell coordinate spread to every third bit.
-  const auto spread = [](std::uint64_t x) {
-    x = (x | (x << 16)) & 0x30000ffULL;
-    x = (x | (x << 8)) & 0x300f00fULL;
-    x = (x | (x << 4)) & 0x30c30c3ULL;
-    return (x | (x << 2)) & 0x9249249ULL;
-  };
-  std::vector<std::uint64_t> keys(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    std::uint64_t code = 0;
-    for (int c = 0; c < 3; ++c) {
-      const double cell = std::floor((points[i][c] - box.min()[c]) / size[c] * 1023.0 + 0.5);
-      code |= spread(static_cast<std::uint64_t>(std::clamp(cell, 0.0, 1023.0))) << c;
-    }
-    keys[i] = (code << 32) | i;
-  }
-  internal::radix_sort(keys);
-  std::vector<int> order(points.size());
-  for (std::size_t k = 0; k < keys.size(); ++k)
-    order[k] = static_cast<int>(keys[k] & 0xffffffffULL);
-  return order;
 }
 
 // The point with the largest value (the first of equals); the origin when there is none.
@@ -291,7 +262,7 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
     samples.insert(samples.end(), impl_->samples.begin() + points, impl_->samples.end());
     impl_->samples = std::move(samples);
   }
-  impl_->visit = z_order(impl_->samples);
+  impl_->visit = internal::z_order(impl_->samples);
 }
 
 Evaluator::~Evaluator() = default;

@@ -150,11 +150,18 @@ def test_progress_is_called_and_can_cancel():
     points = sphere_points(3000)
     phases = []
     vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phases.append((phase, f)))
-    assert {p for p, _ in phases} >= {"preparing", "optimising", "final_refit"}
+    assert {p for p, _ in phases} >= {"preparing", "optimising", "settling", "final_refit",
+                                      "refining", "other_starts"}
     assert all(0.0 <= f <= 1.0 for _, f in phases)
-    # Preparing reports its stages: from 0 to 1, never back.
-    preparing = [f for p, f in phases if p == "preparing"]
-    assert preparing[0] == 0.0 and preparing[-1] == 1.0 and preparing == sorted(preparing)
+    # Each phase comes once, in the documented order, its fraction rising to 1, never back.
+    order = [p for k, (p, _) in enumerate(phases) if k == 0 or phases[k - 1][0] != p]
+    documented = ["preparing", "optimising", "settling", "final_refit", "refining",
+                  "other_starts", "smoothing_check"]
+    assert order == sorted(set(order), key=documented.index)
+    for phase in order:
+        fractions = [f for p, f in phases if p == phase]
+        assert fractions == sorted(fractions) and fractions[-1] == 1.0, phase
+    assert phases[0] == ("preparing", 0.0)
     with pytest.raises(vmas.Cancelled):
         vmas.skeletonize(points, spheres=8, progress=lambda phase, f: phase == "preparing")
 
@@ -443,3 +450,40 @@ def test_an_edit_session_optimises_while_python_edits():
         assert (finished["labels"] >= 0).all()
     with pytest.raises(vmas.InvalidArgument, match="closed"):
         session.snapshot()
+
+
+def test_the_noise_curve_example_runs_and_plots(tmp_path):
+    """scripts/examples/noise_curve.py, as the README shows it, on a mesh made here (CI has no
+    shared models): eight runs, each ε printed, the plot written."""
+    rows, columns = 16, 32
+    theta = np.linspace(0, np.pi, rows + 1)[1:-1]
+    phi = np.linspace(0, 2 * np.pi, columns, endpoint=False)
+    ring = np.stack([np.outer(np.sin(theta), np.cos(phi)),
+                     0.5 * np.outer(np.sin(theta), np.sin(phi)),
+                     np.outer(np.cos(theta), np.ones(columns))], axis=-1).reshape(-1, 3)
+    vertices = np.vstack([ring, [[0, 0, 1], [0, 0, -1]]])
+    top, bottom = len(ring), len(ring) + 1
+    faces = []
+    for r in range(rows - 2):
+        for c in range(columns):
+            a, b = r * columns + c, r * columns + (c + 1) % columns
+            faces += [[a, a + columns, b], [b, a + columns, b + columns]]
+    for c in range(columns):
+        faces.append([top, c, (c + 1) % columns])
+        last = (rows - 2) * columns
+        faces.append([bottom, last + (c + 1) % columns, last + c])
+    mesh = tmp_path / "ellipsoid.off"
+    with open(mesh, "w") as f:
+        f.write(f"OFF\n{len(vertices)} {len(faces)} 0\n")
+        f.writelines(f"{x} {y} {z}\n" for x, y, z in vertices)
+        f.writelines(f"3 {a} {b} {c}\n" for a, b, c in faces)
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "scripts", "examples",
+                          "noise_curve.py")
+    plot = tmp_path / "curve.png"
+    run = subprocess.run([sys.executable, script, str(mesh), str(plot), "8"], env=dict(os.environ),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    lines = [line for line in run.stdout.splitlines() if "epsilon" in line]
+    assert len(lines) == 8
+    assert all(0.0 < float(line.split("epsilon ")[1].split(" %")[0]) < 50.0 for line in lines)
+    assert plot.stat().st_size > 10000 and open(plot, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
