@@ -37,7 +37,8 @@ int start_editor(int argc, char** argv) {
   arguments.push_back(nullptr);
   execv(editor.c_str(), arguments.data());
   std::cerr << "vmas edit: cannot start the editor " << editor << ": " << std::strerror(errno)
-            << " (it is installed beside vmas)\n";
+            << " (it is installed beside vmas; in a build folder, `scripts/build` or `cmake "
+               "--build build --target vmas-edit` builds it)\n";
   return 1;
 }
 
