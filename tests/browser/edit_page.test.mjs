@@ -328,6 +328,25 @@ async function main() {
     return `${status}; the page showed ${(await updatesPerSecond()).toFixed(1)} updates/s meanwhile`;
   });
 
+  await check('paused, with nothing changing, the page draws no frame; running, about one per update', async () => {
+    await page.keyboard.press(' ');
+    await waitForStatus(/ paused /, "'paused'");
+    await page.waitForTimeout(500);  // the frame of the last update
+    const frames = () => page.evaluate(() => window.framesDrawn);
+    const before = await frames();
+    await page.waitForTimeout(2000);
+    const idle = (await frames()) - before;
+    if (idle !== 0) fail(`${idle} frames drawn in 2 s while paused, with no input`);
+    await page.keyboard.press(' ');
+    await waitForStatus(/ steps\/s /, "'steps/s' (resumed)");
+    await updatesPerSecond();
+    const running = await frames();
+    await page.waitForTimeout(2000);
+    const drawn = ((await frames()) - running) / 2, updates = await updatesPerSecond();
+    if (drawn > updates + 1) fail(`${drawn.toFixed(1)} frames/s for ${updates.toFixed(1)} updates/s`);
+    return `0 frames in 2 s paused; running ${drawn.toFixed(1)} frames/s for ${updates.toFixed(1)} updates/s`;
+  });
+
   // D on a hovered sphere: checks the edit sent and the count shown; returns the key, where it
   // was hovered and the latency (key press to the status line's new count).
   const removeHoveredWithD = async (list, count) => {
