@@ -48,9 +48,14 @@ class NearestTree {
       for (int c = 0; c < 3; ++c) coordinates_[3 * i + c] = points[order_[i]][c];
   }
 
-  int nearest(const Vec3& query, double* squared_distance) const {
+  // Searched below `bound` (squared; max: no bound), the nearest point is the unbounded search's
+  // whenever it lies below the bound: both searches find the first leaf holding a point at the
+  // least distance, the bounded one in fewer visits. -1 when no point lies below the bound.
+  int nearest(const Vec3& query, double* squared_distance,
+              double bound = std::numeric_limits<double>::max()) const {
     const double q[3] = {query.x(), query.y(), query.z()};
-    Candidate best{std::numeric_limits<double>::max(), 0};
+    const bool bounded = bound < std::numeric_limits<double>::max();
+    Candidate best{bound, bounded ? -1 : 0};
     search(0, q, best);
     if (squared_distance) *squared_distance = best.distance;
     return best.index;
@@ -266,6 +271,11 @@ KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
 int KdTree::nearest(const Vec3& query, double* squared_distance) const {
   return impl_->nearest_tree().nearest(query, squared_distance);
+}
+
+int KdTree::nearest_within(const Vec3& query, double squared_bound,
+                           double* squared_distance) const {
+  return impl_->nearest_tree().nearest(query, squared_distance, squared_bound);
 }
 
 void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,

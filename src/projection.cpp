@@ -45,6 +45,9 @@ constexpr double kMostProbesOutside = 0.2;
 // noisy rows without normals, offsets of 3, 4 and 6 gave the same ε within their spread.
 constexpr double kInsideOutOffset = 4.0;
 constexpr double kInsideOutJump = 0.5;
+// A squared search bound this much past the square of a distance holds every point nearer than
+// that distance, whatever the rounding of the square (shrink_along).
+constexpr double kSquareSlack = 1.0 + 1e-12;
 // Smallest radius of a ball, relative to the diagonal.
 constexpr double kMinRadius = 1e-6;
 }  // namespace
@@ -242,9 +245,16 @@ Sphere MedialProjector::shrink_along(int vertex, const Vec3& inward, int& contac
   Vec3 center = p + radius * inward;
   contact = -1;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    // Only a point well inside the ball shrinks it: the search looks no farther (than a bound
+    // a little past `reach`, so that rounding of the square cannot leave out a point that the
+    // test below takes). The vertex itself lies on the ball's surface.
     double squared_distance = 0.0;
-    const int nearest = tree_.nearest(center, &squared_distance);
-    if (nearest == vertex || std::sqrt(squared_distance) >= radius - delta) break;
+    const double reach = radius - delta;
+    const int nearest =
+        reach > 0.0
+            ? tree_.nearest_within(center, reach * reach * kSquareSlack, &squared_distance)
+            : -1;
+    if (nearest < 0 || nearest == vertex || std::sqrt(squared_distance) >= reach) break;
     const Vec3& q = shape_.points[nearest];
     const double along = inward.dot(q - p);
     if (!(along > 0.0)) break;  // q behind the tangent plane: cannot be inside the ball

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <flann/flann.hpp>
 #include <limits>
 #include <random>
@@ -75,6 +76,36 @@ TEST(KdTree, NearestMatchesFlannDownToTies) {
     EXPECT_EQ(tree.nearest(query, &squared_distance), static_cast<int>(expected.index_));
     EXPECT_EQ(squared_distance, expected.distance_);
   }
+}
+
+TEST(KdTree, NearestWithinABoundIsTheNearestDownToTiesOrNone) {
+  // The grid's ties again, with bounds just past, at and below each nearest distance (the
+  // shrinking ball searches only inside its ball).
+  std::vector<Vec3> points;
+  for (int x = 0; x < 12; ++x)
+    for (int y = 0; y < 9; ++y)
+      for (int z = 0; z < 7; ++z) points.emplace_back(0.5 * x, 0.25 * y, z);
+  std::shuffle(points.begin(), points.end(), std::mt19937(4));
+  const KdTree tree(points);
+  std::vector<Vec3> queries = random_points(300, 5);
+  for (int x = -1; x < 25; ++x)
+    for (int y = -1; y < 19; ++y)
+      for (int z = -1; z < 15; z += 3) queries.emplace_back(0.25 * x, 0.125 * y, 0.5 * z);
+  int ties_found = 0;
+  for (const Vec3& query : queries) {
+    double nearest_squared = 0.0;
+    const int nearest = tree.nearest(query, &nearest_squared);
+    int equally_near = 0;
+    for (const Vec3& p : points) equally_near += (p - query).squaredNorm() == nearest_squared;
+    ties_found += equally_near > 1;
+    for (const double bound : {std::nextafter(nearest_squared, 1e300), 4.0 * nearest_squared + 1.0}) {
+      double squared = -1.0;
+      EXPECT_EQ(tree.nearest_within(query, bound, &squared), nearest);
+      EXPECT_EQ(squared, nearest_squared);
+    }
+    EXPECT_EQ(tree.nearest_within(query, nearest_squared), -1);  // nothing strictly nearer
+  }
+  EXPECT_GT(ties_found, 100);
 }
 
 TEST(FlannQuery, SortedRadiusResultsMatchFlannDownToTies) {

@@ -20,6 +20,9 @@ class KdTree {
 
   // Index of the point closest to `query`; its squared distance in `squared_distance`.
   int nearest(const Vec3& query, double* squared_distance = nullptr) const;
+  // nearest() when it lies closer than √squared_bound (the same point, found sooner), else -1.
+  int nearest_within(const Vec3& query, double squared_bound,
+                     double* squared_distance = nullptr) const;
 
   // The k nearest points, closest first (fewer if the set is smaller than k).
   void k_nearest(const Vec3& query, int k, std::vector<int>& indices,
