@@ -216,7 +216,9 @@ class NearestTree {
     int near = id + 1;
     int far = node.last;
     if (!((value - node.low) + (value - node.high) < 0)) std::swap(near, far);
-    if (box_distance(nodes_[near].box, q) <= best.distance) search(near, q, best);
+    // The near child is searched whatever its box: a child that cannot hold a point as near as
+    // the best has no point a leaf would take, so a search of it changes nothing but the time.
+    search(near, q, best);
     if (box_distance(nodes_[far].box, q) <= best.distance) search(far, q, best);
   }
 
