@@ -249,12 +249,17 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
+  // "key": one sphere; "keys": several, one edit (one undo step).
+  const auto keys = [&] {
+    return edit.contains("keys") ? edit["keys"].get<std::vector<std::uint64_t>>()
+                                 : std::vector<std::uint64_t>{edit.at("key").get<std::uint64_t>()};
+  };
   if (op == "remove") {
-    session.remove(edit.at("key").get<std::uint64_t>());
+    session.remove(keys());
   } else if (op == "split") {
     session.split_at(integer_field(edit, "vertex"));
   } else if (op == "freeze") {
-    session.freeze(edit.at("key").get<std::uint64_t>(), edit.value("frozen", true));
+    session.freeze(keys(), edit.value("frozen", true));
   } else if (op == "pause") {
     session.pause(edit.value("paused", true));
   } else if (op == "undo") {

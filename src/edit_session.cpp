@@ -49,7 +49,7 @@ struct EditSession::Impl {
       Redo,
       Finish
     } kind;
-    std::uint64_t key = 0;
+    std::vector<std::uint64_t> keys;  // Remove, Freeze
     int value = 0;
     double number = 0.0;
   };
@@ -131,7 +131,7 @@ void EditSession::Impl::check_key(std::uint64_t key) const {
 void EditSession::Impl::enqueue(const Edit& edit) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (edit.kind == Edit::Kind::Remove || edit.kind == Edit::Kind::Freeze) check_key(edit.key);
+    for (std::uint64_t key : edit.keys) check_key(key);
     if (pending_.size() >= kMaxPendingEdits)
       throw InvalidArgument("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
     pending_.push_back(edit);
@@ -139,38 +139,40 @@ void EditSession::Impl::enqueue(const Edit& edit) {
   changed_.notify_all();
 }
 
-void EditSession::remove(std::uint64_t key) { impl_->enqueue({Impl::Edit::Kind::Remove, key}); }
+void EditSession::remove(const std::vector<std::uint64_t>& keys) {
+  impl_->enqueue({Impl::Edit::Kind::Remove, keys});
+}
 
 void EditSession::split_at(int vertex) {
   if (vertex < 0 || vertex >= shape().size())
     throw InvalidArgument("no vertex with index " + std::to_string(vertex));
-  impl_->enqueue({Impl::Edit::Kind::Split, 0, vertex});
+  impl_->enqueue({Impl::Edit::Kind::Split, {}, vertex});
 }
 
-void EditSession::freeze(std::uint64_t key, bool frozen) {
-  impl_->enqueue({Impl::Edit::Kind::Freeze, key, frozen ? 1 : 0});
+void EditSession::freeze(const std::vector<std::uint64_t>& keys, bool frozen) {
+  impl_->enqueue({Impl::Edit::Kind::Freeze, keys, frozen ? 1 : 0});
 }
 
 void EditSession::set_target_spheres(int count) {
   if (count < 1 || count > impl_->most_spheres_)
     throw InvalidOption("count", "must be between 1 and " + std::to_string(impl_->most_spheres_) +
                                      " (got " + std::to_string(count) + ")");
-  impl_->enqueue({Impl::Edit::Kind::Target, 0, count});
+  impl_->enqueue({Impl::Edit::Kind::Target, {}, count});
 }
 
 void EditSession::set_lambda(double lambda) {
   SkeletonizerOptions::check_lambda("lambda", lambda);
-  impl_->enqueue({Impl::Edit::Kind::Lambda, 0, 0, lambda});
+  impl_->enqueue({Impl::Edit::Kind::Lambda, {}, 0, lambda});
 }
 
 void EditSession::change_target_spheres(int by) {
-  impl_->enqueue({Impl::Edit::Kind::TargetBy, 0, by});
+  impl_->enqueue({Impl::Edit::Kind::TargetBy, {}, by});
 }
 
 void EditSession::scale_lambda(double factor) {
   if (!(factor > 0.0 && factor <= SkeletonizerOptions::kMaxLambda))
     throw InvalidOption("lambda", "factor must be in (0, 1e6] (got " + std::to_string(factor) + ")");
-  impl_->enqueue({Impl::Edit::Kind::LambdaTimes, 0, 0, factor});
+  impl_->enqueue({Impl::Edit::Kind::LambdaTimes, {}, 0, factor});
 }
 
 void EditSession::undo() { impl_->enqueue({Impl::Edit::Kind::Undo}); }
@@ -178,7 +180,7 @@ void EditSession::undo() { impl_->enqueue({Impl::Edit::Kind::Undo}); }
 void EditSession::redo() { impl_->enqueue({Impl::Edit::Kind::Redo}); }
 
 void EditSession::pause(bool paused) {
-  impl_->enqueue({Impl::Edit::Kind::Pause, 0, paused ? 1 : 0});
+  impl_->enqueue({Impl::Edit::Kind::Pause, {}, paused ? 1 : 0});
 }
 
 void EditSession::finish() { impl_->enqueue({Impl::Edit::Kind::Finish}); }
@@ -238,11 +240,18 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
   const auto count = [&] { return static_cast<int>(s.spheres().size()); };
   switch (edit.kind) {
     case Edit::Kind::Remove: {
-      const int id = s.id_of(edit.key);
-      if (id < 0 || count() == 1) return false;
-      s.remove_sphere(id);
-      // The user chose the count: a removed sphere stays removed.
-      s.set_target(Target{count()});
+      std::vector<int> ids;  // of the spheres still there and not frozen
+      for (std::uint64_t key : edit.keys) {
+        const int id = s.id_of(key);
+        if (id >= 0 && !s.frozen(id)) ids.push_back(id);
+      }
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      if (ids.empty() || static_cast<int>(ids.size()) >= count()) return false;
+      for (auto id = ids.rbegin(); id != ids.rend(); ++id) s.remove_sphere(*id);
+      // The user chose the count: removed spheres stay removed, growth asked for stays asked.
+      const int target = s.options().target.count();
+      s.set_target(Target{target > 0 ? std::max(1, target - static_cast<int>(ids.size())) : count()});
       return true;
     }
     case Edit::Kind::Split:
@@ -251,10 +260,14 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
       s.set_target(Target{std::max(s.options().target.count(), count())});
       return true;
     case Edit::Kind::Freeze: {
-      const int id = s.id_of(edit.key);
-      if (id < 0) return false;
-      s.freeze(id, edit.value != 0);
-      return true;
+      bool any = false;
+      for (std::uint64_t key : edit.keys) {
+        const int id = s.id_of(key);
+        if (id < 0) continue;
+        s.freeze(id, edit.value != 0);
+        any = true;
+      }
+      return any;
     }
     case Edit::Kind::Target:
       apply_target(edit.value);

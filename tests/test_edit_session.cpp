@@ -212,6 +212,46 @@ TEST(EditSession, UndoTakesEditsBackAndRedoMakesThemAgain) {
   EXPECT_EQ(same.spheres.size(), 4u);
 }
 
+// An action on a selection is one edit: several spheres removed or frozen, one undo step; a
+// frozen sphere is not removed; a removal keeps the growth asked for before it.
+TEST(EditSession, SeveralSpheresInOneEditOneUndoStepFrozenOnesStay) {
+  const auto session = capsule_session(8);
+  settled(*session, 8);
+  session->pause(true);
+  const EditSnapshot paused =
+      wait_until(*session, [](const EditSnapshot& s) { return s.paused; });
+  const std::vector<std::uint64_t> box = {paused.keys[1], paused.keys[2], paused.keys[5]};
+  session->freeze(box, true);
+  const EditSnapshot frozen =
+      wait_until(*session, [](const EditSnapshot& s) { return s.undo_steps == 1; });
+  EXPECT_TRUE(frozen.frozen[1] && frozen.frozen[2] && frozen.frozen[5]);
+  EXPECT_EQ(std::count(frozen.frozen.begin(), frozen.frozen.end(), true), 3);
+  session->freeze(std::vector<std::uint64_t>{paused.keys[5]}, false);
+  // Four asked, one of them frozen: three go, in one edit.
+  session->remove({paused.keys[0], paused.keys[2], paused.keys[3], paused.keys[4]});
+  const EditSnapshot removed =
+      wait_until(*session, [](const EditSnapshot& s) { return s.undo_steps == 3; });
+  ASSERT_EQ(removed.spheres.size(), 5u);
+  EXPECT_NE(std::find(removed.keys.begin(), removed.keys.end(), paused.keys[2]),
+            removed.keys.end());
+  EXPECT_EQ(removed.target_spheres, 5);
+  session->undo();
+  const EditSnapshot back =
+      wait_until(*session, [](const EditSnapshot& s) { return s.undo_steps == 2; });
+  EXPECT_EQ(back.keys, paused.keys);
+  // Growth asked for (+2) and then a removal: the target is 8 + 2 - 1.
+  session->change_target_spheres(2);
+  session->remove(paused.keys[0]);
+  const EditSnapshot grown =
+      wait_until(*session, [](const EditSnapshot& s) { return s.undo_steps == 4; });
+  EXPECT_EQ(grown.target_spheres, 9);
+  // Only frozen spheres asked: nothing to do, dropped.
+  session->remove(std::vector<std::uint64_t>{paused.keys[1]});
+  const EditSnapshot same = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.dropped_edits > grown.dropped_edits; });
+  EXPECT_EQ(same.spheres.size(), grown.spheres.size());
+}
+
 TEST(EditSession, FinishRefitsAndRefinesKeepsFrozenSpheresAndPauses) {
   const auto session = capsule_session(8);
   const EditSnapshot start = settled(*session, 8);

@@ -85,9 +85,13 @@ class EditSession {
   // Edits, applied before the next step. Each throws InvalidOption for a count or λ out of its
   // range, InvalidArgument when it cannot mean anything (a vertex out of range, a key not in the
   // latest snapshot, too many edits waiting).
-  void remove(std::uint64_t key);
+  // Spheres by key, one edit (one undo step) for all of them. A frozen sphere is not removed,
+  // nor the last one; the count target goes down by the spheres removed (pending growth stays).
+  void remove(const std::vector<std::uint64_t>& keys);
+  void remove(std::uint64_t key) { remove(std::vector<std::uint64_t>{key}); }
   void split_at(int vertex);  // a new sphere: the shrinking ball at `vertex`
-  void freeze(std::uint64_t key, bool frozen);
+  void freeze(const std::vector<std::uint64_t>& keys, bool frozen);
+  void freeze(std::uint64_t key, bool frozen) { freeze(std::vector<std::uint64_t>{key}, frozen); }
   void set_target_spheres(int count);  // grows by splitting, shrinks by removing small clusters
   void set_lambda(double lambda);
   // Relative to the value when the edit's turn comes, so that quick edits add up (five +1

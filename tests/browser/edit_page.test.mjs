@@ -3,7 +3,8 @@
 // count, a sphere under the mouse is removed with D, a point's cluster is split with S, 20 such
 // edits give the latency (printed), a click selects a sphere (labelled) that the remove button
 // removes, a click on a point and the split button split there, shift-clicks and a shift-drag
-// box select spheres that the freeze button freezes, Ctrl-Z / Ctrl-Shift-Z take each back and
+// box select spheres that the freeze button freezes in one edit (D leaves frozen spheres),
+// Ctrl-Z / Ctrl-Shift-Z take each back and
 // make it again, quick + presses add up, the finish button refines and pauses, E shows the error
 // map, W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
 // .ma file, ? shows and hides the help, the panel folds away and back, P and M toggle the points
@@ -356,7 +357,7 @@ async function main() {
     await page.keyboard.press('d');
     const sent = await request;
     if (!sent) fail(`D with sphere ${hovered.key} hovered sent no remove edit`);
-    if (sent.postDataJSON().key !== hovered.key)
+    if (JSON.stringify(sent.postDataJSON().keys) !== JSON.stringify([hovered.key]))
       fail(`D sent ${sent.postData()}, but the hovered sphere is ${hovered.key}`);
     const reply = await sent.response();
     if (!reply.ok()) fail(`remove refused: ${reply.status()} ${await reply.text()}`);
@@ -475,7 +476,7 @@ async function main() {
     await page.click('#remove');
     const sent = await request;
     if (!sent) fail(`the remove button with sphere ${selected.key} selected sent no remove edit`);
-    if (sent.postDataJSON().key !== selected.key)
+    if (JSON.stringify(sent.postDataJSON().keys) !== JSON.stringify([selected.key]))
       fail(`the remove button sent ${sent.postData()}, but the selected sphere is ${selected.key}`);
     const reply = await sent.response();
     if (!reply.ok()) fail(`remove refused: ${reply.status()} ${await reply.text()}`);
@@ -538,15 +539,16 @@ async function main() {
     try {
       await page.click('#freeze');
       const deadline = Date.now() + WAIT_MS;
-      while (edits.sent.length < 2 && Date.now() < deadline) await page.waitForTimeout(50);
-      await page.waitForTimeout(300);  // no third
+      while (edits.sent.length < 1 && Date.now() < deadline) await page.waitForTimeout(50);
+      await page.waitForTimeout(300);  // no second
     } finally {
       edits.stop();
     }
+    // One action, one edit: both spheres in one request.
     const bodies = edits.sent.map((r) => r.postDataJSON());
-    if (bodies.length !== 2) fail(`the freeze button with spheres ${keys.join(' and ')} selected sent ${JSON.stringify(bodies)}`);
-    const sentKeys = bodies.map((b) => b.key).sort((a, b) => a - b);
-    if (JSON.stringify(sentKeys) !== JSON.stringify([...keys].sort((a, b) => a - b)) || !bodies.every((b) => b.frozen === true))
+    if (bodies.length !== 1) fail(`the freeze button with spheres ${keys.join(' and ')} selected sent ${JSON.stringify(bodies)}`);
+    const sentKeys = [...(bodies[0].keys || [])].sort((a, b) => a - b);
+    if (JSON.stringify(sentKeys) !== JSON.stringify([...keys].sort((a, b) => a - b)) || bodies[0].frozen !== true)
       fail(`the freeze button sent ${JSON.stringify(bodies)}, not frozen:true for spheres ${keys.join(' and ')}`);
     for (const r of edits.sent) {
       const reply = await r.response();
@@ -616,8 +618,13 @@ async function main() {
     try {
       await page.click('#freeze');
       const deadline = Date.now() + WAIT_MS;
-      while (edits.sent.length < expected.length && Date.now() < deadline) await page.waitForTimeout(50);
-      for (const r of edits.sent) if (!(await r.response()).ok()) fail(`freeze refused: ${r.postData()}`);
+      while (edits.sent.length < 1 && Date.now() < deadline) await page.waitForTimeout(50);
+      await page.waitForTimeout(300);  // a second request would come meanwhile
+      // One action, one edit: every sphere of the box in one request.
+      if (edits.sent.length !== 1) fail(`the freeze button sent ${edits.sent.length} requests for ${expected.length} spheres`);
+      const sentKeys = [...(edits.sent[0].postDataJSON().keys || [])].sort((a, b) => a - b);
+      if (JSON.stringify(sentKeys) !== JSON.stringify(expected)) fail(`freeze sent keys ${JSON.stringify(sentKeys)}`);
+      if (!(await edits.sent[0].response()).ok()) fail(`freeze refused: ${edits.sent[0].postData()}`);
     } finally {
       edits.stop();
     }
@@ -631,11 +638,24 @@ async function main() {
       }
     };
     await waitForFrozen(frozenAll, 'after the freeze button');
-    // Each freeze is an edit of its own: as many Ctrl-Z take them all back.
-    for (let i = 0; i < expected.length; ++i) await page.keyboard.press('Control+z');
-    await waitForFrozen(frozenBefore, `after ${expected.length} × Ctrl-Z`);
-    for (let i = 0; i < expected.length; ++i) await page.keyboard.press('Control+Shift+z');
-    await waitForFrozen(frozenAll, `after ${expected.length} × Ctrl-Shift-Z`);
+    // One edit: one Ctrl-Z takes the whole box back, one Ctrl-Shift-Z freezes it again.
+    await page.keyboard.press('Control+z');
+    await waitForFrozen(frozenBefore, 'after one Ctrl-Z');
+    await page.keyboard.press('Control+Shift+z');
+    await waitForFrozen(frozenAll, 'after one Ctrl-Shift-Z');
+    // D on the box's spheres, now all frozen: nothing is sent, the page says why.
+    const removals = collectEdits('remove');
+    const count = sphereCount(await statusText());
+    try {
+      await page.keyboard.press('d');
+      await page.waitForTimeout(300);
+      if (removals.sent.length) fail(`D on frozen spheres sent ${removals.sent[0].postData()}`);
+    } finally {
+      removals.stop();
+    }
+    const said = await page.textContent('#message');
+    if (!/frozen spheres are never removed/.test(said)) fail(`after D on frozen spheres, #message says '${said}'`);
+    if (sphereCount(await statusText()) !== count) fail('D on frozen spheres changed the count');
     await page.keyboard.press('Escape');
     await page.keyboard.press(' ');
     await waitForStatus(/^spheres \d+\/\d+ +iteration \d+ +[\d.]+ steps\/s /, 'the optimisation going on after Space');
