@@ -157,6 +157,10 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"finished", s.finished},
                   {"error_before_finish_percent", 100.0 * s.error_before_finish},
                   {"error_after_finish_percent", 100.0 * s.error_after_finish},
+                  {"finishing", s.finishing},
+                  {"finish_phase", s.finish_phase},
+                  {"finish_fraction", std::round(s.finish_fraction * 100.0) / 100.0},
+                  {"cancelled_finishes", s.cancelled_finishes},
                   {"measured_error_percent", 100.0 * s.measured_error},
                   {"measured_at_iteration", s.measured_at_iteration},
                   {"keys", s.keys},
@@ -228,7 +232,7 @@ struct Saved {
   MedialMesh mesh;
 };
 
-// Runs finish() and waits until the worker has done it; false when it was dropped.
+// Runs finish() and waits until the worker has done it; false when it was dropped or cancelled.
 bool finish_and_wait(EditSession& session) {
   const EditSnapshot now = session.snapshot();
   session.finish();
@@ -236,7 +240,8 @@ bool finish_and_wait(EditSession& session) {
     version = session.wait_for_version(version, 1000);
     const EditSnapshot s = session.snapshot();
     if (s.finishes > now.finishes) return true;
-    if (s.dropped_edits > now.dropped_edits) return false;
+    if (s.dropped_edits > now.dropped_edits || s.cancelled_finishes > now.cancelled_finishes)
+      return false;
   }
 }
 
@@ -249,6 +254,10 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
+  // The page shows the finish's progress and then its result: an edit meanwhile would change
+  // what it is about to show.
+  if (op != "cancel" && op != "pause" && session.finishing())
+    throw InvalidArgument("a finish is under way: wait for it, or cancel it (Esc)");
   // "key": one sphere; "keys": several, one edit (one undo step).
   const auto keys = [&] {
     return edit.contains("keys") ? edit["keys"].get<std::vector<std::uint64_t>>()
@@ -268,6 +277,8 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     session.redo();
   } else if (op == "finish") {
     session.finish();
+  } else if (op == "cancel") {
+    session.cancel_finish();
   } else if (op == "target") {
     if (edit.contains("by"))
       session.change_target_spheres(integer_field(edit, "by"));

@@ -60,8 +60,11 @@ struct EditSession::Impl {
   bool apply(const Edit& edit);  // worker thread; false when its sphere is gone
   bool apply_one(const Edit& edit);  // apply() without the history
   void apply_target(int count);  // worker thread: the count target, reached at once when fewer
-  void apply_finish();           // worker thread
-  void adopt_fresh_run_if_better();  // worker thread, in apply_finish()
+  bool apply_finish();           // worker thread; false when cancelled (the state as before)
+  // Worker thread, during a finish: publishes its phase and fraction (the spheres stay those of
+  // the last snapshot); false when the finish is to stop (cancelled, or the session ends).
+  bool finish_progress(const char* phase, double fraction);
+  bool adopt_fresh_run_if_better();  // worker thread, in apply_finish(); false when cancelled
   double measure();              // worker thread: the error now, relative to the diagonal
   // What undo() brings back: the skeleton and the targets of a moment.
   struct Moment {
@@ -94,6 +97,9 @@ struct EditSession::Impl {
   std::deque<Edit> pending_;
   EditSnapshot published_;
   bool stop_ = false;
+  bool finishing_ = false;         // a finish asked for and not done or cancelled
+  bool cancel_finish_ = false;     // cancel_finish() asked to stop it
+  int cancelled_finishes_ = 0;
   std::thread worker_;
 };
 
@@ -135,6 +141,10 @@ void EditSession::Impl::enqueue(const Edit& edit) {
     if (pending_.size() >= kMaxPendingEdits)
       throw InvalidArgument("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
     pending_.push_back(edit);
+    if (edit.kind == Edit::Kind::Finish) {
+      finishing_ = true;
+      cancel_finish_ = false;
+    }
   }
   changed_.notify_all();
 }
@@ -185,6 +195,20 @@ void EditSession::pause(bool paused) {
 
 void EditSession::finish() { impl_->enqueue({Impl::Edit::Kind::Finish}); }
 
+bool EditSession::finishing() const {
+  const std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->finishing_;
+}
+
+void EditSession::cancel_finish() {
+  {
+    const std::lock_guard<std::mutex> lock(impl_->mutex_);
+    if (!impl_->finishing_) return;
+    impl_->cancel_finish_ = true;
+  }
+  impl_->changed_.notify_all();
+}
+
 EditSnapshot EditSession::snapshot() const {
   std::lock_guard<std::mutex> lock(impl_->mutex_);
   return impl_->published_;
@@ -225,7 +249,8 @@ bool EditSession::Impl::apply(const Edit& edit) {
   }
   if (edit.kind == Edit::Kind::Pause) return apply_one(edit);
   Moment before = moment();
-  if (!apply_one(edit)) return false;  // nothing to take back
+  // Nothing to take back (a cancelled finish left everything as it was: not a dropped edit).
+  if (!apply_one(edit)) return edit.kind == Edit::Kind::Finish;
   if (edit.kind != Edit::Kind::Finish) finished_ = false;
   hand_edited_ = hand_edited_ || edit.kind == Edit::Kind::Remove ||
                  edit.kind == Edit::Kind::Split || edit.kind == Edit::Kind::Freeze;
@@ -288,8 +313,7 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
       paused_ = edit.value != 0;
       return true;
     case Edit::Kind::Finish:
-      apply_finish();
-      return true;
+      return apply_finish();
     case Edit::Kind::Undo:
     case Edit::Kind::Redo:
       break;  // apply() takes them
@@ -320,12 +344,49 @@ double EditSession::Impl::measure() {
   return (*evaluator_)(s.adjacency_mesh()).hausdorff / s.shape().diagonal;
 }
 
-void EditSession::Impl::apply_finish() {
+bool EditSession::Impl::finish_progress(const char* phase, double fraction) {
+  bool go_on = true;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    go_on = !stop_ && !cancel_finish_;
+    published_.finishing = true;
+    published_.finish_phase = phase;
+    published_.finish_fraction = fraction;
+    ++published_.version;
+  }
+  changed_.notify_all();
+  return go_on;
+}
+
+bool EditSession::Impl::apply_finish() {
   Skeletonizer& s = *skeletonizer_;
   const SkeletonizerState start = s.state();
+  const double measured_before = measured_error_;
+  const int measured_at_before = measured_at_iteration_;
+  // Ends the finish: done, or cancelled with everything as it was before.
+  const auto end = [&](bool done) {
+    if (!done) {
+      s.restore(start);
+      measured_error_ = measured_before;
+      measured_at_iteration_ = measured_at_before;
+    }
+    const std::lock_guard<std::mutex> lock(mutex_);
+    finishing_ = cancel_finish_ = false;
+    if (!done) ++cancelled_finishes_;
+    return done;
+  };
+  if (!finish_progress("measuring", 0.0)) return end(false);
   error_before_finish_ = measure();
-  for (int round = 0; round < s.options().final_rounds; ++round) s.final_refit(round);
-  const RefineReport refined = refine_worst_served(s, *evaluator_, finish_options_.refine);
+  const int rounds = s.options().final_rounds;
+  for (int round = 0; round < rounds; ++round) {
+    if (!finish_progress("final refits", double(round) / rounds)) return end(false);
+    s.final_refit(round);
+  }
+  const RefineReport refined =
+      refine_worst_served(s, *evaluator_, finish_options_.refine, [&](const Progress& p) {
+        return finish_progress("refining", p.fraction);
+      });
+  if (refined.cancelled) return end(false);
   error_after_finish_ = finish_options_.refine.max_moves > 0
                             ? refined.error_after / s.shape().diagonal
                             : measure();
@@ -335,33 +396,37 @@ void EditSession::Impl::apply_finish() {
     s.restore(start);
     error_after_finish_ = error_before_finish_;
   }
-  if (finish_options_.fresh_run && !hand_edited_) adopt_fresh_run_if_better();
+  if (finish_options_.fresh_run && !hand_edited_ && !adopt_fresh_run_if_better())
+    return end(false);
   ++finishes_;
   finished_ = true;
   paused_ = true;  // steps would undo the final refits
   measured_error_ = error_after_finish_;
   measured_at_iteration_ = iteration_;
+  return end(true);
 }
 
-void EditSession::Impl::adopt_fresh_run_if_better() {
+bool EditSession::Impl::adopt_fresh_run_if_better() {
   Skeletonizer& s = *skeletonizer_;
-  const ProgressCallback until_stopped = [this](const Progress&) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return !stop_;
+  const ProgressCallback until_stopped = [this](const Progress& p) {
+    return finish_progress("fresh run", p.phase == Progress::Phase::OtherStarts ? p.fraction : 0.0);
   };
   BestStart fresh;
   try {
     fresh = finish_options_.fresh_run(s.options(), until_stopped);
+  } catch (const Cancelled&) {
+    return false;
   } catch (const std::exception&) {
-    return;  // stopped, or it could not run (the live skeleton stays: it is a result)
+    return true;  // it could not run: the live skeleton stays (it is a result)
   }
-  if (!(fresh.measured_error < error_after_finish_)) return;
+  if (!(fresh.measured_error < error_after_finish_)) return true;
   try {
     s.restore(fresh.state);
   } catch (const InvalidArgument&) {
-    return;  // not a state of this shape: a callback run on another
+    return true;  // not a state of this shape: a callback run on another
   }
   error_after_finish_ = fresh.measured_error;
+  return true;
 }
 
 void EditSession::Impl::publish(double steps_per_second) {
@@ -391,6 +456,9 @@ void EditSession::Impl::publish(double steps_per_second) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;
+    next.finishing = finishing_;
+    if (finishing_) next.finish_phase = "waiting";
+    next.cancelled_finishes = cancelled_finishes_;
     published_ = std::move(next);
   }
   changed_.notify_all();

@@ -16,14 +16,15 @@
 namespace vmas {
 namespace {
 
-std::unique_ptr<EditSession> capsule_session(int spheres) {
+std::unique_ptr<EditSession> capsule_session(int spheres, FinishOptions finish = {}) {
   const test::Sample s = test::sample_capsule(0.2, 1.0, 4000, 47);
   SurfaceInput cloud;
   cloud.points = s.points;
   cloud.normals = s.normals;
   SkeletonizerOptions options;
   options.target.spheres = spheres;
-  return std::make_unique<EditSession>(build_shape(cloud, ShapeOptions{}), options);
+  return std::make_unique<EditSession>(build_shape(cloud, ShapeOptions{}), options, 0,
+                                       std::move(finish));
 }
 
 // The first snapshot that satisfies `done`, waiting at most 20 s (then the last one).
@@ -250,6 +251,46 @@ TEST(EditSession, SeveralSpheresInOneEditOneUndoStepFrozenOnesStay) {
   const EditSnapshot same = wait_until(
       *session, [&](const EditSnapshot& s) { return s.dropped_edits > grown.dropped_edits; });
   EXPECT_EQ(same.spheres.size(), grown.spheres.size());
+}
+
+// A finish says where it is, and a cancel brings back the state before it
+// (here its fresh run waits for the cancel, so that the test knows the finish is under way).
+TEST(EditSession, AFinishShowsItsPhaseAndCanBeCancelled) {
+  FinishOptions finish;
+  finish.fresh_run = [](const SkeletonizerOptions&, const ProgressCallback& progress) -> BestStart {
+    while (progress(Progress{})) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    throw Cancelled();
+  };
+  const auto session = capsule_session(6, std::move(finish));
+  settled(*session, 6);
+  session->pause(true);
+  const EditSnapshot paused =
+      wait_until(*session, [](const EditSnapshot& s) { return s.paused; });
+  session->finish();
+  EXPECT_TRUE(session->finishing());
+  const EditSnapshot running = wait_until(
+      *session, [](const EditSnapshot& s) { return s.finish_phase == "fresh run"; });
+  EXPECT_TRUE(running.finishing);
+  EXPECT_EQ(running.finish_phase, "fresh run");
+  session->cancel_finish();
+  const EditSnapshot cancelled =
+      wait_until(*session, [](const EditSnapshot& s) { return s.cancelled_finishes == 1; });
+  ASSERT_EQ(cancelled.cancelled_finishes, 1);
+  EXPECT_FALSE(cancelled.finishing);
+  EXPECT_FALSE(session->finishing());
+  EXPECT_FALSE(cancelled.finished);
+  EXPECT_EQ(cancelled.finishes, 0);
+  EXPECT_TRUE(cancelled.paused);
+  EXPECT_EQ(cancelled.undo_steps, paused.undo_steps);
+  EXPECT_EQ(cancelled.dropped_edits, paused.dropped_edits);
+  ASSERT_EQ(cancelled.spheres.size(), paused.spheres.size());
+  for (std::size_t i = 0; i < paused.spheres.size(); ++i)
+    EXPECT_EQ(cancelled.spheres[i].center, paused.spheres[i].center);
+  session->split_at(0);
+  const EditSnapshot split =
+      wait_until(*session, [](const EditSnapshot& s) { return s.spheres.size() == 7; });
+  EXPECT_EQ(split.spheres.size(), 7u);
+  session->cancel_finish();  // nothing under way: nothing happens
 }
 
 TEST(EditSession, FinishRefitsAndRefinesKeepsFrozenSpheresAndPauses) {

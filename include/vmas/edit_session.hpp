@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "vmas/refine.hpp"
@@ -42,6 +43,13 @@ struct EditSnapshot {
   int finishes = 0;
   bool finished = false;
   double error_before_finish = 0.0, error_after_finish = 0.0;
+  // A finish under way (asked for and not done or cancelled yet): its phase ("waiting",
+  // "measuring", "final refits", "refining", "fresh run") and the fraction of that phase done;
+  // the spheres meanwhile are those from before it.
+  bool finishing = false;
+  std::string finish_phase;
+  double finish_fraction = 0.0;
+  int cancelled_finishes = 0;
   // The two-sided Hausdorff error relative to the diagonal (the refinement's measure), taken
   // every few seconds once the spheres have settled, and the step it was taken after (-1: none
   // yet).
@@ -112,6 +120,12 @@ class EditSession {
   // the measured error would grow the spheres stay as they were. Then the session pauses, so that the finished skeleton stays until the next edit or resume. An edit
   // of its own: undo() takes it back.
   void finish();
+  // Stops a finish under way: the skeleton, its pause and its measured error stay as they were
+  // before it (no undo step). Nothing when no finish is under way. Edits made meanwhile wait
+  // for the finish's end (`vmas edit` refuses them: a page would show a finished skeleton that
+  // they then change).
+  void cancel_finish();
+  bool finishing() const;  // a finish asked for and not done or cancelled yet
 
   EditSnapshot snapshot() const;
   const Shape& shape() const;

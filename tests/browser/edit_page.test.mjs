@@ -348,6 +348,38 @@ async function main() {
     return `0 frames in 2 s paused; running ${drawn.toFixed(1)} frames/s for ${updates.toFixed(1)} updates/s`;
   });
 
+  await check('a finish shows its phase, refuses edits meanwhile, and Esc cancels it', async () => {
+    // Untouched yet, the session's finish also runs a fresh skeletonization (a second or so).
+    const before = await page.evaluate(() => JSON.stringify(state.spheres));
+    await page.keyboard.press('Enter');
+    await waitForStatus(/\nfinishing: [a-z ]+( \d+ %)? +\(Esc/, "'finishing: PHASE [N %]' on the status line", FINISH_MS);
+    const shown = status.split('\n')[1];
+    if (!(await page.isDisabled('#split'))) fail('the split button is enabled during a finish');
+    // The + key: the page says why it sends nothing; vmas itself refuses an edit meanwhile.
+    await page.keyboard.press('+');
+    const refused = await page.textContent('#message');
+    if (!/a finish is under way/.test(refused)) fail(`+ during the finish: #message '${refused}'`);
+    const direct = await fetch(new URL('api/edit', url).href + '?token=' + new URL(url).searchParams.get('token'),
+                               { method: 'POST', body: JSON.stringify({ op: 'target', by: 1 }) });
+    const answer = await direct.json();
+    if (direct.status !== 400 || !/finish is under way/.test(answer.error || ''))
+      fail(`an edit POSTed during the finish got ${direct.status} ${JSON.stringify(answer)}`);
+    await page.keyboard.press('Escape');
+    const deadline = Date.now() + FINISH_MS;
+    let message = '';
+    while (!/finish cancelled/.test(message = await page.textContent('#message'))) {
+      if (Date.now() > deadline) fail(`no 'finish cancelled' after Esc; #message '${message}', status '${await statusText()}'`);
+      await page.waitForTimeout(100);
+    }
+    status = await statusText();
+    if (/finish(ing|ed):/.test(status)) fail(`after the cancel, the status says '${status}'`);
+    if (await page.isDisabled('#split')) fail('the split button stays disabled after the cancel');
+    const after = await page.evaluate(() => JSON.stringify(state.spheres));
+    if (after !== before && !/ steps\/s /.test(status)) fail('the cancel did not bring the spheres back');
+    noPageErrors();
+    return `'${shown.trim()}', then Esc: '${message}'`;
+  });
+
   // D on a hovered sphere: checks the edit sent and the count shown; returns the key, where it
   // was hovered and the latency (key press to the status line's new count).
   const removeHoveredWithD = async (list, count) => {
