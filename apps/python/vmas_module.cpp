@@ -805,6 +805,9 @@ PYBIND11_MODULE(vmas, m) {
           "finish", [](PyEdit& e) { e.session().finish(); },
           "Ends as vmas.skeletonize does (final refits, refinement), then pauses.")
       .def(
+          "cancel_finish", [](PyEdit& e) { e.session().cancel_finish(); },
+          "Stops a finish under way: the state as it was before it (nothing when none is).")
+      .def(
           "wait",
           [](PyEdit& e, std::uint64_t version, double timeout) {
             py::gil_scoped_release released;
@@ -832,12 +835,15 @@ PYBIND11_MODULE(vmas, m) {
             const std::vector<int> labels = e.map().input_labels(snap.labels);
             d["labels"] = py::array_t<int>(labels.size(), labels.data());
             d["finished"] = snap.finished;
+            d["finishing"] = snap.finishing;
+            d["finish_phase"] = snap.finish_phase;
+            d["finish_fraction"] = snap.finish_fraction;
             d["measured_error"] = snap.measured_error;
             return d;
           },
           "The state now (dict): version, iteration, error, paused, target_spheres, keys, "
           "frozen, medial_mesh (input's coordinates), labels (by input row), finished, "
-          "measured_error.")
+          "finishing, finish_phase, finish_fraction (of that phase), measured_error.")
       .def("close", &PyEdit::close, "Stops the worker; later calls raise vmas.InvalidArgument.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyEdit& e, py::args) { e.close(); });
