@@ -141,9 +141,13 @@ void EditSession::Impl::enqueue(const Edit& edit) {
     if (pending_.size() >= kMaxPendingEdits)
       throw InvalidArgument("too many edits waiting (" + std::to_string(kMaxPendingEdits) + ")");
     pending_.push_back(edit);
-    if (edit.kind == Edit::Kind::Finish) {
+    if (edit.kind == Edit::Kind::Finish) {  // said at once: the worker may be mid-step
       finishing_ = true;
       cancel_finish_ = false;
+      published_.finishing = true;
+      published_.finish_phase = "waiting";
+      published_.finish_fraction = 0.0;
+      ++published_.version;
     }
   }
   changed_.notify_all();
