@@ -222,6 +222,8 @@ async function main() {
 
   pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
+    'paused, with nothing changing, the page draws no frame; running, about one per update',
+    'a finish shows its phase, refuses edits meanwhile, and Esc cancels it',
     'D removes the hovered sphere, and no other sphere changes colour',
     'S splits the hovered point\'s cluster',
     '20 edits, D and S by turns: latency and updates per second',
@@ -235,7 +237,7 @@ async function main() {
     'finish refines and pauses', 'E colours the points by their distance to the skeleton, and back',
     'W saves the skeleton and downloads it', 'the .ma button downloads the skeleton as a .ma file',
     '? shows the help overlay and hides it again', 'the panel folds away and back',
-    'P, M and I toggle points, medial mesh and surface', 'the sliders set the count and λ',
+    'P, M and I toggle points, medial mesh and surface, the buttons show it; V fits the view', 'the sliders set the count and λ',
     'the screenshot button downloads a PNG',
     'at 800 × 600 with the panel folded the model is not covered', 'screenshot', 'no console or page error',
     'the page loads beside 100 clients sitting on half-sent headers',
@@ -773,8 +775,15 @@ async function main() {
     if (!(farthest <= 1e-5)) fail(`the download's spheres differ from the page's by up to ${farthest}`);
     const message = await page.textContent('#message');
     if (!message.includes(`saved ${shown} spheres`)) fail(`message after saving: '${message}'`);
+    await waitForStatus(/ saved( |$)/m, "' saved' on the status line after W");
+    // An edit after the save: the status line and the message say it is not saved.
+    await page.keyboard.press('+');
+    await waitForStatus(/ unsaved changes/, "'unsaved changes' on the status line after + (an edit after saving)");
+    const stale = await page.textContent('#message');
+    if (!/unsaved changes since the last save/.test(stale)) fail(`after an edit following the save, #message says '${stale}'`);
+    await page.keyboard.press('-');
     noPageErrors();
-    return `${spheres.length} spheres in the download, as on the page (within ${farthest.toExponential(1)}), finished at ${reply.error_percent.toFixed(2)} %`;
+    return `${spheres.length} spheres in the download, as on the page (within ${farthest.toExponential(1)}), finished at ${reply.error_percent.toFixed(2)} %; 'unsaved changes' after +`;
   });
 
   await check('the .ma button downloads the skeleton as a .ma file', async () => {
@@ -839,7 +848,7 @@ async function main() {
            `${Math.round(folded.width)} × ${Math.round(folded.height)} px folded`;
   });
 
-  await check('P, M and I toggle points, medial mesh and surface', async () => {
+  await check('P, M and I toggle points, medial mesh and surface, the buttons show it; V fits the view', async () => {
     const visible = () => page.evaluate(() => ({
       points: pointCloud && pointCloud.visible, medial: edgeLines && edgeLines.visible,
       faces: faceMesh && faceMesh.visible }));
@@ -848,13 +857,32 @@ async function main() {
       fail(`before P and M: ${JSON.stringify(before)} (points, medial mesh all shown expected)`);
     const steps = [['p', { points: false, medial: true, faces: true }], ['p', { points: true, medial: true, faces: true }],
                    ['m', { points: true, medial: false, faces: false }], ['m', { points: true, medial: true, faces: true }]];
+    const pressed = () => page.evaluate(() => ({
+      points: document.getElementById('toggle-points').getAttribute('aria-pressed') === 'true',
+      medial: document.getElementById('toggle-medial').getAttribute('aria-pressed') === 'true' }));
     for (const [key, expected] of steps) {
       await page.keyboard.press(key);
       await nextFrame();
       const now = await visible();
       if (JSON.stringify(now) !== JSON.stringify(expected))
         fail(`after ${key.toUpperCase()}: ${JSON.stringify(now)}, not ${JSON.stringify(expected)}`);
+      // Each toggle button shows whether what it toggles is on.
+      const buttons = await pressed();
+      if (buttons.points !== expected.points || buttons.medial !== expected.medial)
+        fail(`after ${key.toUpperCase()} the buttons show ${JSON.stringify(buttons)} for ${JSON.stringify(expected)}`);
     }
+    // V fits the view: after a drag that turns it, the camera comes back to where it started.
+    const cameraAt = () => page.evaluate(() => camera.position.toArray().map((v) => v.toFixed(5)).join(' '));
+    await page.keyboard.press('v');
+    const fitted = await cameraAt();
+    const { width, height } = VIEWPORT;
+    await page.mouse.move(width * 0.7, height * 0.7);
+    await page.mouse.down();
+    await page.mouse.move(width * 0.8, height * 0.6, { steps: 4 });
+    await page.mouse.up();
+    if (await cameraAt() === fitted) fail('the drag did not turn the view');
+    await page.keyboard.press('v');
+    if (await cameraAt() !== fitted) fail(`V put the camera at ${await cameraAt()}, not ${fitted}`);
     await page.keyboard.press('i');
     const message = await page.textContent('#message');
     if (!/the input is a point cloud: no surface to show/.test(message)) fail(`after I, #message says '${message}'`);
@@ -924,6 +952,16 @@ async function main() {
     const resized = (size) => page.waitForFunction(({ width, height }) =>
       innerWidth === width && innerHeight === height &&
       renderer.domElement.clientWidth === width && renderer.domElement.clientHeight === height, size);
+    // A page opened in a narrow window starts with its panel folded.
+    const narrow = await page.context().newPage();
+    try {
+      await narrow.setViewportSize(small);
+      await narrow.goto(url, { waitUntil: 'load' });
+      if (!(await narrow.evaluate(() => document.getElementById('panel').classList.contains('folded'))))
+        fail('a page opened at 800 × 600 starts with its panel open');
+    } finally {
+      await narrow.close();
+    }
     await page.setViewportSize(small);
     try {
       await resized(small);
