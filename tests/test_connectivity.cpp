@@ -1,9 +1,9 @@
-// Tests of the connectivity stage (src/connectivity.cpp).
+// Tests of the connectivity stage (src/optimise/connectivity.cpp).
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "connectivity.hpp"
+#include "optimise/connectivity.hpp"
 #include "test_shapes.hpp"
 #include "vmas/shape.hpp"
 

@@ -7,7 +7,7 @@
 #include <random>
 #include <utility>
 
-#include "denoise.hpp"
+#include "prepare/denoise.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"

@@ -1,7 +1,7 @@
 // Holes of sampled surfaces (find_holes) on shapes built in code, fixed seeds.
 #include <gtest/gtest.h>
 
-#include "holes.hpp"
+#include "prepare/holes.hpp"
 #include "test_shapes.hpp"
 #include "vmas/prepare.hpp"
 

@@ -1,4 +1,4 @@
-// Where outputs land (src/io_output.cpp): never over an input or a special file, all files of
+// Where outputs land (src/io/output.cpp): never over an input or a special file, all files of
 // a run or none, nothing left behind by a failure or a signal.
 #include <gtest/gtest.h>
 #include <signal.h>

@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "../src/flann_query.hpp"
+#include "core/flann_query.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"

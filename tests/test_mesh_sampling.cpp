@@ -5,7 +5,7 @@
 #include <iostream>
 #include <random>
 
-#include "mesh_sampling.hpp"
+#include "prepare/mesh_sampling.hpp"
 #include "test_shapes.hpp"
 #include "vmas/clean.hpp"
 #include "vmas/eval.hpp"

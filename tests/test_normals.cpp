@@ -5,7 +5,7 @@
 #include <functional>
 #include <random>
 
-#include "normals.hpp"
+#include "prepare/normals.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"

@@ -1,9 +1,9 @@
-// Tests of the partition stage (src/partition.cpp).
+// Tests of the partition stage (src/optimise/partition.cpp).
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "partition.hpp"
+#include "optimise/partition.hpp"
 #include "test_shapes.hpp"
 #include "vmas/shape.hpp"
 

@@ -1,4 +1,4 @@
-// Tests of the projection stage (src/projection.cpp).
+// Tests of the projection stage (src/optimise/projection.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>

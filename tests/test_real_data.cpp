@@ -7,9 +7,9 @@
 #include <random>
 #include <string>
 
-#include "connectivity.hpp"
-#include "denoise.hpp"
-#include "normals.hpp"
+#include "optimise/connectivity.hpp"
+#include "prepare/denoise.hpp"
+#include "prepare/normals.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/eval.hpp"

@@ -1,10 +1,10 @@
-// Tests of the shape stage (src/shape.cpp).
+// Tests of the shape stage (src/optimise/shape.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "connectivity.hpp"
+#include "optimise/connectivity.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/shape.hpp"

@@ -1,7 +1,7 @@
-// Tests of the split stage (src/split.cpp).
+// Tests of the split stage (src/optimise/split.cpp).
 #include <gtest/gtest.h>
 
-#include "split.hpp"
+#include "optimise/split.hpp"
 #include "test_shapes.hpp"
 
 namespace vmas {

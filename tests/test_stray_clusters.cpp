@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <random>
 
-#include "stray_clusters.hpp"
+#include "prepare/stray_clusters.hpp"
 #include "test_shapes.hpp"
 #include "vmas/prepare.hpp"
 

@@ -1,10 +1,10 @@
-// Tests of the subsample stage (src/subsample.cpp).
+// Tests of the subsample stage (src/core/subsample.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 
-#include "subsample.hpp"
+#include "core/subsample.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 

@@ -1,12 +1,12 @@
-// Tests of the update stage (src/update.cpp).
+// Tests of the update stage (src/optimise/update.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "partition.hpp"
+#include "optimise/partition.hpp"
 #include "test_shapes.hpp"
-#include "update.hpp"
+#include "optimise/update.hpp"
 #include "vmas/shape.hpp"
 
 namespace vmas {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "test_shapes.hpp"
-#include "validity.hpp"
+#include "pipeline/validity.hpp"
 #include "vmas/refine.hpp"
 #include "vmas/shape.hpp"
 

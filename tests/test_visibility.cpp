@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "test_shapes.hpp"
-#include "visibility.hpp"
+#include "prepare/visibility.hpp"
 
 namespace vmas {
 namespace {

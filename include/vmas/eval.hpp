@@ -42,7 +42,7 @@ struct EvalOptions {
   // sampling are not counted as error. Off: the nearest point, as the paper measures (vmas eval).
   bool cloud_as_discs = false;
   // Surface -> medial from at most about this many of the input's points, one per voxel
-  // (src/subsample.hpp), when it has more (0: all of them): a smoothed mesh holds no detail finer
+  // (src/core/subsample.hpp), when it has more (0: all of them): a smoothed mesh holds no detail finer
   // than its noise. Only with maxima_only (vertex_error needs every point).
   std::size_t max_input_points = 0;
 

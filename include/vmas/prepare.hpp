@@ -10,14 +10,14 @@
 
 namespace vmas {
 
-// Scan noise as estimate_noise (src/denoise.hpp) reads it.
+// Scan noise as estimate_noise (src/prepare/denoise.hpp) reads it.
 struct NoiseEstimate {
   double sigma = 0.0;    // standard deviation of the positions across the surface (absolute)
   double spacing = 0.0;  // median distance from a point to its nearest neighbour (absolute)
   int neighbours = 0;    // neighbourhood size (k) the estimate was read at
 };
 
-// Outlier removal and smoothing (src/denoise.hpp).
+// Outlier removal and smoothing (src/prepare/denoise.hpp).
 struct DenoiseOptions {
   // Noise at or below this fraction of the spacing is left alone: clean samples, meshes whose
   // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls
@@ -29,19 +29,19 @@ struct DenoiseOptions {
   void validate() const;              // throws InvalidOption
 };
 
-// Normal estimation and orientation of clouds (src/normals.hpp).
+// Normal estimation and orientation of clouds (src/prepare/normals.hpp).
 struct NormalOptions {
   int k = 16;             // neighbours used for the PCA plane fit and for the orientation graph
   void validate() const;  // throws InvalidOption
 };
 
-// A hole of a cloud: a rim where the sampling stops (src/holes.hpp).
+// A hole of a cloud: a rim where the sampling stops (src/prepare/holes.hpp).
 struct Hole {
   double width = 0.0;    // diagonal of the rim's bounding box (absolute)
   std::vector<int> rim;  // indices of the points found on its rim, ascending
 };
 
-// Clouds with more points are thinned to about this many (coarse-to-fine, src/subsample.hpp).
+// Clouds with more points are thinned to about this many (coarse-to-fine, src/core/subsample.hpp).
 constexpr int kDefaultMaxPoints = 100000;
 
 struct PrepareOptions {
@@ -50,9 +50,9 @@ struct PrepareOptions {
   Denoise denoise = Denoise::Auto;  // Auto: measure the noise; Fixed: take `noise_sigma`
   double noise_sigma = 0.0;         // with Fixed: noise deviation, fraction of the diagonal
   bool remove_outliers = true;      // clouds, unless denoise is Off
-  bool remove_stray_clusters = true;  // clouds, whatever denoise says (src/stray_clusters.hpp)
+  bool remove_stray_clusters = true;  // clouds, whatever denoise says (src/prepare/stray_clusters.hpp)
   bool sample_coarse_meshes = true;   // clean meshes: a coarse one's faces sampled
-                                      // (src/mesh_sampling.hpp)
+                                      // (src/prepare/mesh_sampling.hpp)
   bool estimate_normals = false;    // clouds: estimate even when the file has normals
   bool orient_normals = false;      // clouds: re-orient the surface's normals (signs not trusted)
   NormalOptions normals;
@@ -128,7 +128,7 @@ std::size_t smoothed_points_needed(const SurfaceInput& surface, const PrepareRep
                                    int spheres);
 
 // Thins the prepared `surface` (points and normals) to about `budget` points, one per voxel
-// (src/subsample.hpp), when it has more; the report's stand_in and kept follow.
+// (src/core/subsample.hpp), when it has more; the report's stand_in and kept follow.
 void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size_t budget);
 
 // The orientation of a smoothed cloud's estimated normals turns over only large regions (its

@@ -106,7 +106,7 @@ class MedialProjector {
   std::vector<BlockDipole> dipoles_;
   bool reject_outside_ = false;  // balls with an outside centre are rejected
   // Clouds: the voxels outside the samples, at the cell sizes whose walls shut the inside off
-  // (src/exterior.hpp).
+  // (src/optimise/exterior.hpp).
   std::vector<std::unique_ptr<internal::ExteriorGrid>> exteriors_;
   double enclosure_ = 0.0;
 };

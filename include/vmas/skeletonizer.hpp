@@ -30,14 +30,14 @@ struct Target {
   int count() const { return spheres > 0 ? spheres : error > 0.0 ? 0 : kDefaultSpheres; }
 };
 
-// The Gauss–Newton refit of a cluster's sphere (paper §3.3, src/update.hpp).
+// The Gauss–Newton refit of a cluster's sphere (paper §3.3, src/optimise/update.hpp).
 struct UpdateOptions {
   int max_iterations = 10;       // Gauss–Newton steps per update
   double step_tolerance = 1e-6;  // stop when the step is shorter (relative to the diagonal)
   void validate() const;         // throws InvalidOption
 };
 
-// How many clusters one round of splitting may split (paper §3.4, src/split.hpp).
+// How many clusters one round of splitting may split (paper §3.4, src/optimise/split.hpp).
 struct SplitOptions {
   double max_fraction = 0.2;  // at most this fraction of the current sphere count per round
   int max_per_round = 10;     // and at most this many (sphere-count targets only) ...

@@ -75,7 +75,7 @@ struct SmoothingCheck {
   double unsmoothed_cover = 0.0;  // and of the unsmoothed points' skeleton
 };
 
-// Spheres that a closed input shows to be no medial balls (invalid_spheres in src/validity.hpp):
+// Spheres that a closed input shows to be no medial balls (invalid_spheres in src/pipeline/validity.hpp):
 // counted only when the input encloses a volume (a mesh without defects, or a cloud whose
 // winding number reads closed and that has no holes).
 struct InvalidSpheres {

@@ -7,8 +7,8 @@
 #include <set>
 #include <string>
 
-#include "radix_sort.hpp"
-#include "sphere_lattice.hpp"
+#include "core/radix_sort.hpp"
+#include "core/sphere_lattice.hpp"
 #include "vmas/error.hpp"
 
 namespace vmas {

@@ -12,7 +12,7 @@
 
 #include "eval/envelope.hpp"
 #include "eval/shape_distance.hpp"
-#include "subsample.hpp"
+#include "core/subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 

@@ -1,0 +1,32 @@
+#include "pipeline/validity.hpp"
+
+#include <cmath>
+
+namespace vmas {
+namespace {
+
+// A centre whose winding number is at most this lies outside the solid.
+constexpr double kInside = 0.5;
+// A radius this far (fraction of the diagonal) from the distance to the surface is no medial
+// ball's: well above a cloud's spacing, by which the distance to its nearest point overstates
+// the distance to the surface it samples.
+constexpr double kRadiusTolerance = 0.01;
+
+}  // namespace
+
+InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialProjector& projector,
+                               const Evaluator& evaluator, double diagonal) {
+  InvalidSpheres invalid;
+  invalid.checked = true;
+  std::vector<Vec3> centers;
+  centers.reserve(spheres.size());
+  for (const Sphere& s : spheres) centers.push_back(s.center);
+  const std::vector<double> distance = evaluator.distances_to_shape(centers);
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    invalid.outside += projector.winding_number(spheres[i].center) <= kInside;
+    invalid.radius_off += std::abs(spheres[i].radius - distance[i]) > kRadiusTolerance * diagonal;
+  }
+  return invalid;
+}
+
+}  // namespace vmas
