@@ -7,7 +7,10 @@
 #include <random>
 #include <utility>
 
-#include "prepare/denoise.hpp"
+#include "prepare/fringe.hpp"
+#include "prepare/noise.hpp"
+#include "prepare/outliers.hpp"
+#include "prepare/smoothing.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "optimise/connectivity.hpp"
-#include "prepare/denoise.hpp"
+#include "prepare/outliers.hpp"
 #include "prepare/normals.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"

@@ -10,14 +10,14 @@
 
 namespace vmas {
 
-// Scan noise as estimate_noise (src/prepare/denoise.hpp) reads it.
+// Scan noise as estimate_noise (src/prepare/noise.hpp) reads it.
 struct NoiseEstimate {
   double sigma = 0.0;    // standard deviation of the positions across the surface (absolute)
   double spacing = 0.0;  // median distance from a point to its nearest neighbour (absolute)
   int neighbours = 0;    // neighbourhood size (k) the estimate was read at
 };
 
-// Outlier removal and smoothing (src/prepare/denoise.hpp).
+// Outlier removal and smoothing (src/prepare/outliers.hpp, smoothing.hpp, fringe.hpp).
 struct DenoiseOptions {
   // Noise at or below this fraction of the spacing is left alone: clean samples, meshes whose
   // fine relief reads as noise, and scans whose mild noise does not disturb the shrinking balls

@@ -38,5 +38,12 @@ PrincipalAxes principal_axes(const std::vector<Vec3>& points, const Indices& ind
   return fit;
 }
 
+// The mean of all the points (at least one).
+inline Vec3 centroid_of(const std::vector<Vec3>& points) {
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& p : points) sum += p;
+  return sum / static_cast<double>(points.size());
+}
+
 }  // namespace internal
 }  // namespace vmas

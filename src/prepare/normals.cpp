@@ -1,8 +1,5 @@
 #include "prepare/normals.hpp"
 
-#include <pcl/features/normal_3d.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -15,6 +12,7 @@
 #include "core/disjoint_sets.hpp"
 #include "core/principal_axes.hpp"
 #include "core/sphere_lattice.hpp"
+#include "pcl_backend/plane_fits.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 #include "vmas/kdtree.hpp"
@@ -22,17 +20,12 @@
 
 namespace vmas {
 
+using internal::centroid_of;
 using internal::DisjointSets;
 using internal::k_nearest_all;
 using internal::Neighbourhoods;
 
 namespace {
-
-Vec3 centroid_of(const std::vector<Vec3>& points) {
-  Vec3 sum = Vec3::Zero();
-  for (const Vec3& p : points) sum += p;
-  return sum / static_cast<double>(points.size());
-}
 
 // Normalises every normal; a missing one (NaN from a degenerate neighbourhood, or zero length)
 // becomes the direction away from the centroid so that it is finite and roughly outward before
@@ -414,25 +407,16 @@ Vec3 refit_on_own_sheet(const std::vector<Vec3>& points, const int* row, int wid
 std::vector<Vec3> fitted_normals(const std::vector<Vec3>& points,
                                  const Neighbourhoods& neighbours) {
   const int count = static_cast<int>(points.size());
-  // PCL works in float: centre the cloud first so that large coordinates keep their precision.
-  const Vec3 centroid = centroid_of(points);
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  cloud.resize(count);
-  for (int i = 0; i < count; ++i) {
-    const Eigen::Vector3f p = (points[i] - centroid).cast<float>();
-    cloud[i] = pcl::PointXYZ(p.x(), p.y(), p.z());
-  }
+  const internal::PlaneFits planes(points);
   std::vector<Vec3> normals(count);
 #pragma omp parallel
   {
-    pcl::Indices indices(neighbours.width);
-    Eigen::Vector4f plane;
+    std::vector<int> indices(neighbours.width);
     float variation = 0.0f;
 #pragma omp for schedule(static)
     for (int i = 0; i < count; ++i) {
       std::copy(neighbours.row(i), neighbours.row(i) + neighbours.width, indices.begin());
-      pcl::computePointNormal(cloud, indices, plane, variation);
-      normals[i] = plane.head<3>().cast<double>();
+      normals[i] = planes.normal(indices, variation);
       if (variation > kStraddlingVariation && normals[i].allFinite())
         normals[i] = refit_on_own_sheet(points, neighbours.row(i), neighbours.width, i, normals[i]);
     }

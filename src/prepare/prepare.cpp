@@ -8,7 +8,10 @@
 #include <string>
 
 #include "core/cloud_graph.hpp"
-#include "prepare/denoise.hpp"
+#include "prepare/fringe.hpp"
+#include "prepare/noise.hpp"
+#include "prepare/outliers.hpp"
+#include "prepare/smoothing.hpp"
 #include "prepare/holes.hpp"
 #include "prepare/mesh_sampling.hpp"
 #include "prepare/normals.hpp"

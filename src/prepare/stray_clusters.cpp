@@ -5,7 +5,7 @@
 #include <numeric>
 #include <optional>
 
-#include "prepare/denoise.hpp"
+#include "prepare/noise.hpp"
 #include "core/disjoint_sets.hpp"
 #include "vmas/kdtree.hpp"
 
