@@ -32,15 +32,6 @@ const char* kDescription =
     "\n"
     "options";
 
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
-
-// The figure as the summary prints it (6 significant digits), as a JSON number.
-double rounded(double value) { return std::stod(number(value)); }
-
 }  // namespace
 
 int eval_command(int argc, const char* const* argv) {
@@ -58,7 +49,7 @@ int eval_command(int argc, const char* const* argv) {
       ("seed", po::value(&options.seed)->default_value(defaults.seed),
        "seed of the random surface samples")
       ("spacing", po::value(&options.boundary_spacing)
-           ->default_value(defaults.boundary_spacing, number(defaults.boundary_spacing)),
+           ->default_value(defaults.boundary_spacing, figure_text(defaults.boundary_spacing)),
        "distance between samples on the primitives' boundaries (fraction of the diagonal)")
       ("errors", po::value(&errors_path),
        "write the surface-to-medial distance of every input point to FILE, one per line")
@@ -116,12 +107,12 @@ int eval_command(int argc, const char* const* argv) {
     files.push_back({errors_path, std::move(text)});
   }
   if (!medial_errors_path.empty()) {
-    std::string text = "# diagonal " + number(result.diagonal) + " hausdorff " +
-                       number(result.hausdorff) + " surface_to_medial_max " +
-                       number(result.surface_to_medial_max) + " surface_to_medial_mean " +
-                       number(result.surface_to_medial_mean) + " medial_to_surface_max " +
-                       number(result.medial_to_surface_max) + " medial_to_surface_mean " +
-                       number(result.medial_to_surface_mean) + "\n# x y z distance\n";
+    std::string text = "# diagonal " + figure_text(result.diagonal) + " hausdorff " +
+                       figure_text(result.hausdorff) + " surface_to_medial_max " +
+                       figure_text(result.surface_to_medial_max) + " surface_to_medial_mean " +
+                       figure_text(result.surface_to_medial_mean) + " medial_to_surface_max " +
+                       figure_text(result.medial_to_surface_max) + " medial_to_surface_mean " +
+                       figure_text(result.medial_to_surface_mean) + "\n# x y z distance\n";
     char line[128];
     for (std::size_t i = 0; i < result.boundary_samples.size(); ++i) {
       const Vec3& p = result.boundary_samples[i];
@@ -137,25 +128,15 @@ int eval_command(int argc, const char* const* argv) {
 
   if (vm.count("json")) {
     // The fields of docs/json.md.
-    const nlohmann::ordered_json summary = {
-        {"vmas", version()},
-        {"shape", shape_path},
-        {"medial", medial_path},
-        {"spheres", medial.spheres.size()},
-        {"edges", medial.edges.size()},
-        {"faces", medial.faces.size()},
-        {"diagonal", rounded(result.diagonal)},
-        {"hausdorff_percent", rounded(result.percent(result.hausdorff))},
-        {"surface_to_medial_max_percent", rounded(result.percent(result.surface_to_medial_max))},
-        {"surface_to_medial_mean_percent", rounded(result.percent(result.surface_to_medial_mean))},
-        {"medial_to_surface_max_percent", rounded(result.percent(result.medial_to_surface_max))},
-        {"medial_to_surface_mean_percent", rounded(result.percent(result.medial_to_surface_mean))},
-        {"topology", topology},
-        {"openings", openings.openings},
-        {"reach_percent", rounded(result.percent(openings.reach))},
-        {"surface_samples", result.surface_sample_count},
-        {"boundary_samples", result.boundary_sample_count},
-        {"seconds", rounded(seconds)}};
+    nlohmann::ordered_json summary = {{"vmas", version()},
+                                      {"shape", shape_path},
+                                      {"medial", medial_path},
+                                      {"spheres", medial.spheres.size()},
+                                      {"edges", medial.edges.size()},
+                                      {"faces", medial.faces.size()}};
+    summary.update(eval_figures(result, &openings));
+    summary["topology"] = topology;
+    summary["seconds"] = significant(seconds);
     std::cout << summary.dump() << "\n";
     return 0;
   }
@@ -163,24 +144,24 @@ int eval_command(int argc, const char* const* argv) {
             << (shape.is_mesh() ? ", " + std::to_string(shape.faces.size()) + " faces" : "")
             << "\nmedial " << medial_path << ": " << medial.spheres.size() << " spheres, "
             << medial.edges.size() << " edges, " << medial.faces.size() << " faces\n"
-            << "epsilon (two-sided Hausdorff): " << number(result.percent(result.hausdorff))
-            << " % of the diagonal (" << number(result.diagonal) << ")\n"
-            << "surface -> medial: max " << number(result.percent(result.surface_to_medial_max))
-            << " %, mean " << number(result.percent(result.surface_to_medial_mean)) << " % ("
+            << "epsilon (two-sided Hausdorff): " << figure_text(result.percent(result.hausdorff))
+            << " % of the diagonal (" << figure_text(result.diagonal) << ")\n"
+            << "surface -> medial: max " << figure_text(result.percent(result.surface_to_medial_max))
+            << " %, mean " << figure_text(result.percent(result.surface_to_medial_mean)) << " % ("
             << result.surface_sample_count << " samples)\n"
-            << "medial -> surface: max " << number(result.percent(result.medial_to_surface_max))
-            << " %, mean " << number(result.percent(result.medial_to_surface_mean)) << " % ("
+            << "medial -> surface: max " << figure_text(result.percent(result.medial_to_surface_max))
+            << " %, mean " << figure_text(result.percent(result.medial_to_surface_mean)) << " % ("
             << result.boundary_sample_count << " samples)\n";
   std::cout << topology_line(topology) << "\n";
   if (!shape.is_mesh())
-    std::cout << "coverage: every point within " << number(result.percent(result.surface_to_medial_max))
+    std::cout << "coverage: every point within " << figure_text(result.percent(result.surface_to_medial_max))
               << " % of the reconstruction; " << openings.openings << " opening"
               << (openings.openings == 1 ? "" : "s")
               << (openings.openings > 0 ? ", reached past by " +
-                                              number(result.percent(openings.reach)) + " %"
+                                              figure_text(result.percent(openings.reach)) + " %"
                                         : std::string())
               << "\n";
-  std::cout << "time: " << number(seconds) << " s"
+  std::cout << "time: " << figure_text(seconds) << " s"
             << (errors_path.empty() ? "" : "; wrote " + errors_path)
             << (medial_errors_path.empty() ? "" : "; wrote " + medial_errors_path) << "\n";
   return 0;

@@ -2,6 +2,8 @@
 #include "run_summary.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace vmas::cli {
@@ -14,6 +16,33 @@ double percent_of(double length, double diagonal) {
 double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
 
 }  // namespace
+
+std::string figure_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+double significant(double value) { return std::strtod(figure_text(value).c_str(), nullptr); }
+
+json eval_figures(const EvalResult& result, const OpeningReach* openings) {
+  json figures = {
+      {"diagonal", significant(result.diagonal)},
+      {"hausdorff_percent", significant(result.percent(result.hausdorff))},
+      {"surface_to_medial_max_percent", significant(result.percent(result.surface_to_medial_max))},
+      {"surface_to_medial_mean_percent",
+       significant(result.percent(result.surface_to_medial_mean))},
+      {"medial_to_surface_max_percent", significant(result.percent(result.medial_to_surface_max))},
+      {"medial_to_surface_mean_percent",
+       significant(result.percent(result.medial_to_surface_mean))}};
+  if (openings) {
+    figures["openings"] = openings->openings;
+    figures["reach_percent"] = significant(result.percent(openings->reach));
+  }
+  figures["surface_samples"] = result.surface_sample_count;
+  figures["boundary_samples"] = result.boundary_sample_count;
+  return figures;
+}
 
 json topology_summary(const MedialTopology& medial, const SurfaceGenus& input) {
   return {{"input_genus", input.known ? json(input.genus) : json()},
@@ -131,10 +160,7 @@ json run_summary(const Result& result, const RunContext& run) {
     warnings.push_back({{"code", w.code}, {"message", w.message}});
   summary["warnings"] = warnings;
   if (const EvalResult* eval = run.eval)
-    summary["eval"] = {
-        {"hausdorff_percent", percent_of(eval->hausdorff, eval->diagonal)},
-        {"surface_to_medial_max_percent", percent_of(eval->surface_to_medial_max, eval->diagonal)},
-        {"medial_to_surface_max_percent", percent_of(eval->medial_to_surface_max, eval->diagonal)}};
+    summary["eval"] = eval_figures(*eval);
   const Timings& t = result.seconds;
   summary["seconds"] = {{"read", rounded(run.read_seconds)},
                         {"clean", rounded(t.clean)},

@@ -28,6 +28,15 @@ struct RunContext {
 
 json run_summary(const Result& result, const RunContext& run);
 
+// An evaluation's figures as every front end gives them (`vmas eval --json`, `skeletonize
+// --eval`, Python's evaluate()): the diagonal, the one-sided figures in % of it, the samples
+// measured and, when given, a cloud's openings and how far the reconstruction reaches past
+// them; each to 6 significant digits, as `vmas eval` prints them.
+json eval_figures(const EvalResult& result, const OpeningReach* openings = nullptr);
+// A figure as the summaries print it: 6 significant digits; and as their JSON number.
+std::string figure_text(double value);
+double significant(double value);
+
 // The `topology` object of both summaries (skeletonize's and eval's): the input's genus per
 // piece when known (`input_genus`: null and `input_genus_unknown` saying why otherwise), and the
 // medial mesh's Betti numbers and duplicate triangles.

@@ -113,6 +113,16 @@ TEST_F(Cli, VersionAndJsonSummaryWithEval) {
   EXPECT_TRUE(summary["warnings"].empty());
   EXPECT_GT(summary["eval"]["hausdorff_percent"].get<double>(), 0.0);
   EXPECT_LT(summary["eval"]["hausdorff_percent"].get<double>(), 10.0);
+  // The figures of --eval are vmas eval's (of the skeleton before it was written in float).
+  r = run("eval " + path("capsule.off") + " " + path("out.ply") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto measured = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["eval"].size(), 8u);
+  for (const auto& [key, value] : summary["eval"].items()) {
+    ASSERT_TRUE(measured.contains(key)) << key;
+    EXPECT_NEAR(value.get<double>(), measured[key].get<double>(),
+                1e-4 * std::abs(measured[key].get<double>())) << key;
+  }
   // Timings are reported, not judged here (scripts/bench measures them): every stage is listed.
   for (const char* stage :
        {"read", "clean", "prepare", "shape", "partition", "update", "projection", "split",

@@ -930,13 +930,8 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
           r = evaluate(cleaned, mesh);
           openings = opening_reach(cleaned, r);
         }
-        py::dict d;
-        d["diagonal"] = r.diagonal;
-        d["hausdorff_percent"] = r.percent(r.hausdorff);
-        d["surface_to_medial_max_percent"] = r.percent(r.surface_to_medial_max);
-        d["surface_to_medial_mean_percent"] = r.percent(r.surface_to_medial_mean);
-        d["medial_to_surface_max_percent"] = r.percent(r.medial_to_surface_max);
-        d["medial_to_surface_mean_percent"] = r.percent(r.medial_to_surface_mean);
+        py::dict d = py::module_::import("json").attr("loads")(
+            cli::eval_figures(r, &openings).dump());
         const MedialTopology topology = medial_topology(mesh);
         py::dict betti;
         betti["b0"] = topology.components;
@@ -944,10 +939,6 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
         betti["b2"] = topology.cavities;
         betti["duplicate_triangles"] = topology.duplicate_triangles;
         d["topology"] = betti;
-        d["openings"] = openings.openings;
-        d["reach_percent"] = r.percent(openings.reach);
-        d["surface_samples"] = r.surface_sample_count;
-        d["boundary_samples"] = r.boundary_sample_count;
         return d;
       },
       py::arg("shape"), py::arg("medial"), py::arg("faces") = py::none(),
