@@ -449,8 +449,11 @@ PreparedShape prepared_for_python(SurfaceInput surface, const Options& options, 
 
 class PythonSkeletonizer {
  public:
-  PythonSkeletonizer(SurfaceInput surface, const Options& options) : threads_(options.threads) {
+  PythonSkeletonizer(SurfaceInput surface, const Options& options)
+      : threads_(options.threads), refine_(options.refine) {
     PreparedShape prepared = prepared_for_python(std::move(surface), options, map_);
+    measure_ = refinement_eval_options(prepared);
+    surface_ = std::move(prepared.surface);
     skeletonizer_ = std::make_unique<Skeletonizer>(std::move(prepared.shape), prepared.run);
   }
 
@@ -463,6 +466,34 @@ class PythonSkeletonizer {
     const ThreadCount threads(threads_);
     return work(*skeletonizer_);
   }
+  // As locked(), for work that changes the skeleton: the final refits of a run are then undone.
+  template <class Work>
+  auto edited(Work&& work) {
+    return locked([&](Skeletonizer& s) {
+      refitted_ = false;
+      return work(s);
+    });
+  }
+
+  RunSummary run(const ProgressCallback& progress) {
+    return locked([&](Skeletonizer& s) {
+      const RunSummary summary = s.run(progress);
+      refitted_ = !summary.cancelled;
+      return summary;
+    });
+  }
+
+  // What vmas.skeletonize does after its run (vmas::finish_skeleton): the final refits unless
+  // run() just made them, the refinement, and the error measured against the prepared surface.
+  // Its report, and the measured error in % of the shape's diagonal.
+  std::pair<FinishReport, double> finish(const ProgressCallback& progress) {
+    return locked([&](Skeletonizer& s) {
+      if (!evaluator_) evaluator_ = std::make_unique<Evaluator>(surface_, measure_);
+      const FinishReport report = finish_skeleton(s, *evaluator_, refine_, refitted_, progress);
+      refitted_ = refitted_ || !report.cancelled;
+      return std::make_pair(report, 100.0 * report.error / s.shape().diagonal);
+    });
+  }
 
   std::vector<int> input_labels(const std::vector<int>& labels) const {
     return map_.input_labels(labels);
@@ -474,6 +505,12 @@ class PythonSkeletonizer {
   InputMap map_;
   std::mutex mutex_;
   std::unique_ptr<Skeletonizer> skeletonizer_;
+  // What finish() measures against and how it refines (as vmas.skeletonize).
+  SurfaceInput surface_;
+  RefineOptions refine_;
+  EvalOptions measure_;
+  std::unique_ptr<Evaluator> evaluator_;  // built by the first finish()
+  bool refitted_ = false;                 // the last change was run()'s final refits
 };
 
 // vmas.EditSession: the optimisation in a worker thread while Python edits it (the paper's
@@ -659,12 +696,12 @@ PYBIND11_MODULE(vmas, m) {
                     "starts from one sphere.");
   skeletonizer
       .def(
-          "step", [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.step(); }); },
+          "step", [](PySk& p) { return p.edited([](Skeletonizer& s) { return s.step(); }); },
           "One partition + update + projection step; returns the total error.")
       .def(
           "advance",
           [](PySk& p) {
-            const Turn turn = p.locked([](Skeletonizer& s) { return s.advance(); });
+            const Turn turn = p.edited([](Skeletonizer& s) { return s.advance(); });
             py::dict d;
             d["error"] = turn.error;
             d["converged"] = turn.converged;
@@ -677,31 +714,48 @@ PYBIND11_MODULE(vmas, m) {
           "run",
           [](PySk& p, py::object progress) {
             PythonProgress watch{progress};
-            const RunSummary summary =
-                p.locked([&](Skeletonizer& s) { return s.run(std::ref(watch)); });
+            const RunSummary summary = p.run(std::ref(watch));
             if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
             return summary_dict(summary);
           },
           py::arg("progress") = py::none(),
           "Turns until done, then the final refits (without the worst-case refinement of "
-          "vmas.skeletonize); returns the summary (dict).")
+          "vmas.skeletonize: see finish()); returns the summary (dict).")
       .def(
-          "split", [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.split(); }); },
+          "finish",
+          [](PySk& p, py::object progress) {
+            PythonProgress watch{progress};
+            const auto [report, percent] = p.finish(std::ref(watch));
+            if (watch.interrupted && PyErr_Occurred()) throw py::error_already_set();
+            py::dict d;
+            d["moves_tried"] = report.refine.tried;
+            d["moves_kept"] = report.refine.kept;
+            d["measured_error_percent"] = percent;
+            d["cancelled"] = report.cancelled;
+            return d;
+          },
+          py::arg("progress") = py::none(),
+          "What vmas.skeletonize does after its run: the final refits (unless run() just made "
+          "them), the worst-case refinement (refine_moves), and the two-sided error measured as "
+          "it measures it; returns moves_tried, moves_kept, measured_error_percent (of the shape's "
+          "diagonal) and cancelled (dict).")
+      .def(
+          "split", [](PySk& p) { return p.edited([](Skeletonizer& s) { return s.split(); }); },
           "One split round; returns the spheres added.")
       .def(
           "add_sphere",
           [](PySk& p, int vertex) {
-            return p.locked([&](Skeletonizer& s) { return s.add_sphere_at(vertex); });
+            return p.edited([&](Skeletonizer& s) { return s.add_sphere_at(vertex); });
           },
           py::arg("vertex"), "A sphere at the shrinking ball of `vertex`; returns its id.")
       .def(
           "remove_sphere",
-          [](PySk& p, int id) { p.locked([&](Skeletonizer& s) { s.remove_sphere(id); }); },
+          [](PySk& p, int id) { p.edited([&](Skeletonizer& s) { s.remove_sphere(id); }); },
           py::arg("id"), "Removes sphere `id` (later ids shift down by one; keys stay).")
       .def(
           "freeze",
           [](PySk& p, int id, bool frozen) {
-            p.locked([&](Skeletonizer& s) { s.freeze(id, frozen); });
+            p.edited([&](Skeletonizer& s) { s.freeze(id, frozen); });
           },
           py::arg("id"), py::arg("frozen") = true,
           "A frozen sphere is neither moved, split nor removed by the optimisation.")

@@ -51,4 +51,19 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluato
                                  const RefineOptions& options,
                                  const ProgressCallback& progress = {});
 
+struct FinishReport {
+  RefineReport refine;
+  double error = 0.0;      // the result's measured two-sided Hausdorff distance, absolute
+  bool cancelled = false;  // the progress callback returned false
+};
+
+// The end of every run, as vmas::skeletonize, EditSession::finish and Python's
+// Skeletonizer.finish make it: the final refits (Skeletonizer::final_refit, options().final_rounds;
+// Phase::FinalRefit after each) unless the run made them already (`refitted`: Skeletonizer::run
+// does), then the refinement (when options.max_moves > 0), and the error measured with
+// `evaluator` (the refinement's last measurement, or one of its own).
+FinishReport finish_skeleton(Skeletonizer& skeletonizer, Evaluator& evaluator,
+                             const RefineOptions& options, bool refitted,
+                             const ProgressCallback& progress = {});
+
 }  // namespace vmas

@@ -189,15 +189,15 @@ void EditSession::scale_lambda(double factor) {
   impl_->enqueue({Impl::Edit::Kind::LambdaTimes, {}, 0, factor});
 }
 
-void EditSession::undo() { impl_->enqueue({Impl::Edit::Kind::Undo}); }
+void EditSession::undo() { impl_->enqueue({Impl::Edit::Kind::Undo, {}}); }
 
-void EditSession::redo() { impl_->enqueue({Impl::Edit::Kind::Redo}); }
+void EditSession::redo() { impl_->enqueue({Impl::Edit::Kind::Redo, {}}); }
 
 void EditSession::pause(bool paused) {
   impl_->enqueue({Impl::Edit::Kind::Pause, {}, paused ? 1 : 0});
 }
 
-void EditSession::finish() { impl_->enqueue({Impl::Edit::Kind::Finish}); }
+void EditSession::finish() { impl_->enqueue({Impl::Edit::Kind::Finish, {}}); }
 
 bool EditSession::finishing() const {
   const std::lock_guard<std::mutex> lock(impl_->mutex_);
@@ -381,19 +381,13 @@ bool EditSession::Impl::apply_finish() {
   };
   if (!finish_progress("measuring", 0.0)) return end(false);
   error_before_finish_ = measure();
-  const int rounds = s.options().final_rounds;
-  for (int round = 0; round < rounds; ++round) {
-    if (!finish_progress("final refits", double(round) / rounds)) return end(false);
-    s.final_refit(round);
-  }
-  const RefineReport refined =
-      refine_worst_served(s, *evaluator_, finish_options_.refine, [&](const Progress& p) {
-        return finish_progress("refining", p.fraction);
+  const FinishReport finished = finish_skeleton(
+      s, *evaluator_, finish_options_.refine, /*refitted=*/false, [&](const Progress& p) {
+        return finish_progress(
+            p.phase == Progress::Phase::FinalRefit ? "final refits" : "refining", p.fraction);
       });
-  if (refined.cancelled) return end(false);
-  error_after_finish_ = finish_options_.refine.max_moves > 0
-                            ? refined.error_after / s.shape().diagonal
-                            : measure();
+  if (finished.cancelled) return end(false);
+  error_after_finish_ = finished.error / s.shape().diagonal;
   // The refinement only keeps moves that help, but the refits before it may not: a finish never
   // leaves the skeleton worse than it found it.
   if (error_after_finish_ > error_before_finish_) {

@@ -354,19 +354,18 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
     });
   result.summary = skeletonizer.run(progress);
   if (result.summary.cancelled) throw Cancelled();
-  std::unique_ptr<Evaluator> measurer;
-  if (evaluator.valid()) {
-    const auto refine_start = Clock::now();
-    measurer = evaluator.get();
-    result.refine = refine_worst_served(skeletonizer, *measurer, options.refine, progress);
-    if (result.refine.cancelled) throw Cancelled();
+  const auto refine_start = Clock::now();
+  const std::unique_ptr<Evaluator> measurer =
+      evaluator.valid() ? evaluator.get() : std::make_unique<Evaluator>(prepared.surface, measure);
+  const FinishReport finish =
+      finish_skeleton(skeletonizer, *measurer, options.refine, /*refitted=*/true, progress);
+  if (finish.cancelled) throw Cancelled();
+  if (options.refine.max_moves > 0) {
+    result.refine = finish.refine;
     // The stage's time, waiting for the evaluator included, in both places it is reported.
     result.seconds.refine = result.refine.seconds = seconds_since(refine_start);
-    result.measured_error = result.refine.error_after;
-  } else {
-    measurer = std::make_unique<Evaluator>(prepared.surface, measure);
-    result.measured_error = (*measurer)(skeletonizer.adjacency_mesh()).hausdorff;
   }
+  result.measured_error = finish.error;
   if (result.prepare.diagonal > 0.0) result.measured_error /= result.prepare.diagonal;
   // The count is a promise: a skeleton with fewer spheres is an error, not a result.
   if (run.target.count() > 0 && result.summary.spheres < run.target.count())

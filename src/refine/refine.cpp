@@ -251,6 +251,33 @@ RefineReport refine_worst_served(Skeletonizer& skeletonizer, const SurfaceInput&
   return report;
 }
 
+FinishReport finish_skeleton(Skeletonizer& skeletonizer, Evaluator& evaluator,
+                             const RefineOptions& options, bool refitted,
+                             const ProgressCallback& progress) {
+  options.validate();
+  FinishReport finish;
+  const int rounds = refitted ? 0 : skeletonizer.options().final_rounds;
+  for (int round = 0; round < rounds; ++round) {
+    skeletonizer.final_refit(round);
+    if (progress &&
+        !progress(Progress{Progress::Phase::FinalRefit, 0,
+                           static_cast<int>(skeletonizer.spheres().size()),
+                           skeletonizer.options().target.count(), skeletonizer.total_error(),
+                           round + 1, rounds, double(round + 1) / rounds})) {
+      finish.cancelled = true;
+      return finish;
+    }
+  }
+  if (options.max_moves > 0) {
+    finish.refine = refine_worst_served(skeletonizer, evaluator, options, progress);
+    finish.cancelled = finish.refine.cancelled;
+    finish.error = finish.refine.error_after;
+  } else {
+    finish.error = evaluator(skeletonizer.adjacency_mesh()).hausdorff;
+  }
+  return finish;
+}
+
 RefineReport refine_worst_served(Skeletonizer& skeletonizer, Evaluator& evaluator,
                                  const RefineOptions& options, const ProgressCallback& progress) {
   options.validate();

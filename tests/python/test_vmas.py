@@ -253,6 +253,23 @@ def test_the_editing_loop_of_the_paper():
         skeletonizer.add_sphere(-1)
 
 
+def test_run_then_finish_is_what_skeletonize_gives_with_one_start():
+    points, normals = capsule_points(3000)
+    result = vmas.skeletonize(points, normals, spheres=8, starts=1, threads=1)
+    skeletonizer = vmas.Skeletonizer(points, normals, spheres=8, starts=1, threads=1)
+    skeletonizer.run()
+    finished = skeletonizer.finish()
+    assert set(finished) == {"moves_tried", "moves_kept", "measured_error_percent", "cancelled"}
+    assert finished["moves_tried"] >= 1 and not finished["cancelled"]
+    np.testing.assert_array_equal(skeletonizer.medial_mesh().centers, result.medial_mesh.centers)
+    np.testing.assert_array_equal(skeletonizer.medial_mesh().radii, result.medial_mesh.radii)
+    assert finished["measured_error_percent"] == pytest.approx(
+        result.summary["measured_error_percent"], abs=1e-3)
+    # A second finish refines again but does not refit the refitted skeleton twice.
+    again = skeletonizer.finish()
+    assert again["measured_error_percent"] <= finished["measured_error_percent"] + 1e-9
+
+
 def test_open3d_arrays_go_in_directly():
     o3d = pytest.importorskip("open3d", reason="Debian's python3-open3d (scripts/build installs it)")
     points, normals = capsule_points(2000)
