@@ -538,19 +538,10 @@ class PythonEditSession {
   std::unique_ptr<EditSession> session_;
 };
 
-}  // namespace
-}  // namespace vmas::python
 
-PYBIND11_MODULE(vmas, m) {
-  using namespace vmas;
-  using namespace vmas::python;
-  m.doc() =
-      "Skeletons by variational medial axis sampling: a point cloud (with or without normals) "
-      "or a triangle mesh in, a medial mesh of spheres, edges and triangles out.";
-  m.attr("__version__") = version();
-
-  // Errors: the CLI's messages, as Python exceptions.
-  // vmas.Error is the base of every one, each also the built-in a Python user would catch.
+// Errors: the CLI's messages, as Python exceptions. vmas.Error is the base of every one, each
+// also the built-in a Python user would catch.
+void def_errors(py::module_& m) {
   static py::exception<Error> error(m, "Error");
   const auto bases = [&](PyObject* builtin) {
     return py::make_tuple(error, py::handle(builtin));
@@ -581,7 +572,10 @@ PYBIND11_MODULE(vmas, m) {
       error(e.what());
     }
   });
+}
 
+// The shapes that go in and out: vmas.Surface, vmas.MedialMesh.
+void def_shapes(py::module_& m) {
   py::class_<SurfaceInput>(m, "Surface", "A shape as vmas reads it: points, normals, faces.")
       .def_property_readonly(
           "points", [](const SurfaceInput& s) { return matrix(s.points); }, "(N, 3) float64")
@@ -609,7 +603,10 @@ PYBIND11_MODULE(vmas, m) {
           "edges", [](const MedialMesh& mm) { return index_matrix(mm.edges); }, "(E, 2) int32")
       .def_property_readonly(
           "faces", [](const MedialMesh& mm) { return index_matrix(mm.faces); }, "(T, 3) int32");
+}
 
+// vmas.Result: what vmas.skeletonize gives, and its pickling.
+void def_result(py::module_& m) {
   py::class_<PythonResult>(m, "Result", "What vmas.skeletonize gives.")
       .def_property_readonly("medial_mesh",
                              [](const PythonResult& r) { return r.result.medial_mesh; })
@@ -684,7 +681,59 @@ PYBIND11_MODULE(vmas, m) {
                std::to_string(mm.edges.size()) + " edges, " + std::to_string(mm.faces.size()) +
                " faces>";
       });
+}
 
+// vmas.Skeletonizer's state: its skeleton, points, labels and keys.
+void def_skeletonizer_state(py::class_<PythonSkeletonizer>& skeletonizer) {
+  using PySk = PythonSkeletonizer;
+  skeletonizer
+      .def(
+          "medial_mesh",
+          [](PySk& p) {
+            return p.locked([&](Skeletonizer& s) { return p.frame().to_input(s.medial_mesh()); });
+          },
+          "The medial mesh now, in the input's coordinates.")
+      .def_property_readonly(
+          "points",
+          [](PySk& p) {
+            std::vector<Vec3> points = p.locked([](Skeletonizer& s) { return s.shape().points; });
+            for (Vec3& point : points) point = p.frame().to_input(point);
+            return matrix(points);
+          },
+          "(V, 3): the prepared shape's vertices, in the input's coordinates")
+      .def_property_readonly(
+          "vertex_labels",
+          [](PySk& p) {
+            const std::vector<int> labels = p.locked([](Skeletonizer& s) { return s.labels(); });
+            return py::array_t<int>(labels.size(), labels.data());
+          },
+          "(V,) int32: the sphere of every prepared vertex (of `points`)")
+      .def_property_readonly(
+          "labels",
+          [](PySk& p) {
+            const std::vector<int> labels = p.input_labels(
+                p.locked([](Skeletonizer& s) { return s.labels(); }));
+            return py::array_t<int>(labels.size(), labels.data());
+          },
+          "(N,) int32: the sphere of every input row, -1 for a row dropped (as Result.labels)")
+      .def_property_readonly(
+          "keys",
+          [](PySk& p) {
+            const std::vector<std::uint64_t> keys =
+                p.locked([](Skeletonizer& s) { return s.keys(); });
+            return py::array_t<std::uint64_t>(keys.size(), keys.data());
+          },
+          "(M,) uint64: a key per sphere that stays with it for its life")
+      .def_property_readonly(
+          "total_error",
+          [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.total_error(); }); })
+      .def_property_readonly("spheres", [](PySk& p) {
+        return p.locked([](Skeletonizer& s) { return static_cast<int>(s.spheres().size()); });
+      });
+}
+
+// vmas.Skeletonizer: the optimisation step by step, editable between steps.
+void def_skeletonizer(py::module_& m) {
   using PySk = PythonSkeletonizer;
   py::class_<PySk> skeletonizer(
       m, "Skeletonizer",
@@ -758,100 +807,14 @@ PYBIND11_MODULE(vmas, m) {
             p.edited([&](Skeletonizer& s) { s.freeze(id, frozen); });
           },
           py::arg("id"), py::arg("frozen") = true,
-          "A frozen sphere is neither moved, split nor removed by the optimisation.")
-      .def(
-          "medial_mesh",
-          [](PySk& p) {
-            return p.locked([&](Skeletonizer& s) { return p.frame().to_input(s.medial_mesh()); });
-          },
-          "The medial mesh now, in the input's coordinates.")
-      .def_property_readonly(
-          "points",
-          [](PySk& p) {
-            std::vector<Vec3> points = p.locked([](Skeletonizer& s) { return s.shape().points; });
-            for (Vec3& point : points) point = p.frame().to_input(point);
-            return matrix(points);
-          },
-          "(V, 3): the prepared shape's vertices, in the input's coordinates")
-      .def_property_readonly(
-          "vertex_labels",
-          [](PySk& p) {
-            const std::vector<int> labels = p.locked([](Skeletonizer& s) { return s.labels(); });
-            return py::array_t<int>(labels.size(), labels.data());
-          },
-          "(V,) int32: the sphere of every prepared vertex (of `points`)")
-      .def_property_readonly(
-          "labels",
-          [](PySk& p) {
-            const std::vector<int> labels = p.input_labels(
-                p.locked([](Skeletonizer& s) { return s.labels(); }));
-            return py::array_t<int>(labels.size(), labels.data());
-          },
-          "(N,) int32: the sphere of every input row, -1 for a row dropped (as Result.labels)")
-      .def_property_readonly(
-          "keys",
-          [](PySk& p) {
-            const std::vector<std::uint64_t> keys =
-                p.locked([](Skeletonizer& s) { return s.keys(); });
-            return py::array_t<std::uint64_t>(keys.size(), keys.data());
-          },
-          "(M,) uint64: a key per sphere that stays with it for its life")
-      .def_property_readonly(
-          "total_error",
-          [](PySk& p) { return p.locked([](Skeletonizer& s) { return s.total_error(); }); })
-      .def_property_readonly("spheres", [](PySk& p) {
-        return p.locked([](Skeletonizer& s) { return static_cast<int>(s.spheres().size()); });
-      });
+          "A frozen sphere is neither moved, split nor removed by the optimisation.");
+  def_skeletonizer_state(skeletonizer);
+}
 
+// vmas.EditSession's pause, finish, state and end.
+void def_edit_session_control(py::class_<PythonEditSession>& edit_session) {
   using PyEdit = PythonEditSession;
-  py::class_<PyEdit> edit_session(
-      m, "EditSession",
-      "The optimisation running in a worker thread while you edit it (the paper's dynamic "
-      "editing, the engine of `vmas edit`): edits are queued and applied between steps; "
-      "snapshot() gives the state now. Spheres are named by their keys. Any thread may call it. "
-      "close() (or leaving a `with` block) stops the worker.");
-  def_prepared_init(edit_session, "EditSession",
-                    "Prepares the shape as vmas.skeletonize does (same arguments and options) and "
-                    "starts optimising at once.");
   edit_session
-      .def(
-          "remove",
-          [](PyEdit& e, std::uint64_t key) {
-            py::gil_scoped_release released;
-            e.session().remove(key);
-          },
-          py::arg("key"), "Removes the sphere with this key.")
-      .def(
-          "split_at",
-          [](PyEdit& e, int vertex) {
-            py::gil_scoped_release released;
-            e.session().split_at(vertex);
-          },
-          py::arg("vertex"), "A new sphere: the shrinking ball at this prepared vertex.")
-      .def(
-          "freeze",
-          [](PyEdit& e, std::uint64_t key, bool frozen) {
-            py::gil_scoped_release released;
-            e.session().freeze(key, frozen);
-          },
-          py::arg("key"), py::arg("frozen") = true,
-          "A frozen sphere is neither moved, split nor removed by the optimisation.")
-      .def(
-          "set_target_spheres",
-          [](PyEdit& e, int count) {
-            py::gil_scoped_release released;
-            e.session().set_target_spheres(count);
-          },
-          py::arg("count"))
-      .def(
-          "set_lambda",
-          [](PyEdit& e, double lambda) {
-            py::gil_scoped_release released;
-            e.session().set_lambda(lambda);
-          },
-          py::arg("lambda_"))
-      .def("undo", [](PyEdit& e) { e.session().undo(); })
-      .def("redo", [](PyEdit& e) { e.session().redo(); })
       .def(
           "pause", [](PyEdit& e, bool paused) { e.session().pause(paused); },
           py::arg("paused") = true)
@@ -901,7 +864,64 @@ PYBIND11_MODULE(vmas, m) {
       .def("close", &PyEdit::close, "Stops the worker; later calls raise vmas.InvalidArgument.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyEdit& e, py::args) { e.close(); });
+}
 
+// vmas.EditSession: the optimisation in a worker thread, edited from any thread.
+void def_edit_session(py::module_& m) {
+  using PyEdit = PythonEditSession;
+  py::class_<PyEdit> edit_session(
+      m, "EditSession",
+      "The optimisation running in a worker thread while you edit it (the paper's dynamic "
+      "editing, the engine of `vmas edit`): edits are queued and applied between steps; "
+      "snapshot() gives the state now. Spheres are named by their keys. Any thread may call it. "
+      "close() (or leaving a `with` block) stops the worker.");
+  def_prepared_init(edit_session, "EditSession",
+                    "Prepares the shape as vmas.skeletonize does (same arguments and options) and "
+                    "starts optimising at once.");
+  edit_session
+      .def(
+          "remove",
+          [](PyEdit& e, std::uint64_t key) {
+            py::gil_scoped_release released;
+            e.session().remove(key);
+          },
+          py::arg("key"), "Removes the sphere with this key.")
+      .def(
+          "split_at",
+          [](PyEdit& e, int vertex) {
+            py::gil_scoped_release released;
+            e.session().split_at(vertex);
+          },
+          py::arg("vertex"), "A new sphere: the shrinking ball at this prepared vertex.")
+      .def(
+          "freeze",
+          [](PyEdit& e, std::uint64_t key, bool frozen) {
+            py::gil_scoped_release released;
+            e.session().freeze(key, frozen);
+          },
+          py::arg("key"), py::arg("frozen") = true,
+          "A frozen sphere is neither moved, split nor removed by the optimisation.")
+      .def(
+          "set_target_spheres",
+          [](PyEdit& e, int count) {
+            py::gil_scoped_release released;
+            e.session().set_target_spheres(count);
+          },
+          py::arg("count"))
+      .def(
+          "set_lambda",
+          [](PyEdit& e, double lambda) {
+            py::gil_scoped_release released;
+            e.session().set_lambda(lambda);
+          },
+          py::arg("lambda_"))
+      .def("undo", [](PyEdit& e) { e.session().undo(); })
+      .def("redo", [](PyEdit& e) { e.session().redo(); });
+  def_edit_session_control(edit_session);
+}
+
+// vmas.skeletonize: the CLI's run in one call.
+void def_skeletonize(py::module_& m) {
   m.def(
       "skeletonize",
       [](py::object points, py::object normals, py::object faces, py::object spheres,
@@ -934,7 +954,10 @@ options:  every option of `vmas skeletonize --help`, spelled with '_' for '-': l
 Returns a vmas.Result. Raises vmas.InvalidOption (a ValueError naming the option),
 vmas.InvalidInput (data that cannot give the skeleton asked for), ValueError for arrays of the
 wrong shape, KeyboardInterrupt on Ctrl-C.)");
+}
 
+// Reading, writing and measuring as the CLI does.
+void def_io_and_evaluate(py::module_& m) {
   m.def(
       "read",
       [](const py::object& path) {
@@ -1000,4 +1023,23 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
       "vmas.Surface, or an (N, 3) array and optional faces) and the reconstruction of a medial "
       "mesh, in % of the shape's diagonal, and against a cloud its openings and how far the "
       "reconstruction reaches past them (dict).");
+}
+
+}  // namespace
+}  // namespace vmas::python
+
+PYBIND11_MODULE(vmas, m) {
+  using namespace vmas::python;
+  m.doc() =
+      "Skeletons by variational medial axis sampling: a point cloud (with or without normals) "
+      "or a triangle mesh in, a medial mesh of spheres, edges and triangles out.";
+  m.attr("__version__") = vmas::version();
+
+  def_errors(m);
+  def_shapes(m);
+  def_result(m);
+  def_skeletonizer(m);
+  def_edit_session(m);
+  def_skeletonize(m);
+  def_io_and_evaluate(m);
 }
