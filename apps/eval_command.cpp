@@ -32,6 +32,69 @@ const char* kDescription =
     "\n"
     "options";
 
+// The files of --errors and --medial-errors (each when its path is given).
+std::vector<OutputFile> error_files(const EvalResult& result, const std::string& errors_path,
+                                    const std::string& medial_errors_path) {
+  std::vector<OutputFile> files;
+  if (!errors_path.empty()) {
+    std::string text;
+    char line[32];
+    for (double e : result.vertex_error) {
+      std::snprintf(line, sizeof line, "%.9g\n", e);
+      text += line;
+    }
+    files.push_back({errors_path, std::move(text)});
+  }
+  if (!medial_errors_path.empty()) {
+    std::string text = "# diagonal " + figure_text(result.diagonal) + " hausdorff " +
+                       figure_text(result.hausdorff) + " surface_to_medial_max " +
+                       figure_text(result.surface_to_medial_max) + " surface_to_medial_mean " +
+                       figure_text(result.surface_to_medial_mean) + " medial_to_surface_max " +
+                       figure_text(result.medial_to_surface_max) + " medial_to_surface_mean " +
+                       figure_text(result.medial_to_surface_mean) + "\n# x y z distance\n";
+    char line[128];
+    for (std::size_t i = 0; i < result.boundary_samples.size(); ++i) {
+      const Vec3& p = result.boundary_samples[i];
+      std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g\n", p.x(), p.y(), p.z(),
+                    result.boundary_error[i]);
+      text += line;
+    }
+    files.push_back({medial_errors_path, std::move(text)});
+  }
+  return files;
+}
+
+// The summary for people, but its time.
+void print_evaluation(const std::string& shape_path, const SurfaceInput& shape,
+                      const std::string& medial_path, const MedialMesh& medial,
+                      const EvalResult& result, const OpeningReach& openings,
+                      const json& topology) {
+  std::cout << "shape " << shape_path << ": " << shape.points.size() << " points"
+            << (shape.is_mesh() ? ", " + std::to_string(shape.faces.size()) + " faces" : "")
+            << "\nmedial " << medial_path << ": " << medial.spheres.size() << " spheres, "
+            << medial.edges.size() << " edges, " << medial.faces.size() << " faces\n"
+            << "epsilon (two-sided Hausdorff): " << figure_text(result.percent(result.hausdorff))
+            << " % of the diagonal (" << figure_text(result.diagonal) << ")\n"
+            << "surface -> medial: max "
+            << figure_text(result.percent(result.surface_to_medial_max)) << " %, mean "
+            << figure_text(result.percent(result.surface_to_medial_mean)) << " % ("
+            << result.surface_sample_count << " samples)\n"
+            << "medial -> surface: max "
+            << figure_text(result.percent(result.medial_to_surface_max)) << " %, mean "
+            << figure_text(result.percent(result.medial_to_surface_mean)) << " % ("
+            << result.boundary_sample_count << " samples)\n";
+  std::cout << topology_line(topology) << "\n";
+  if (!shape.is_mesh())
+    std::cout << "coverage: every point within "
+              << figure_text(result.percent(result.surface_to_medial_max))
+              << " % of the reconstruction; " << openings.openings << " opening"
+              << (openings.openings == 1 ? "" : "s")
+              << (openings.openings > 0
+                      ? ", reached past by " + figure_text(result.percent(openings.reach)) + " %"
+                      : std::string())
+              << "\n";
+}
+
 }  // namespace
 
 int eval_command(int argc, const char* const* argv) {
@@ -96,32 +159,7 @@ int eval_command(int argc, const char* const* argv) {
   const json topology = topology_summary(
       medial_topology(medial),
       surface_genus(shape, shape.is_mesh() ? mesh_defects(shape.faces) : MeshDefects{}));
-  std::vector<OutputFile> files;  // written together
-  if (!errors_path.empty()) {
-    std::string text;
-    char line[32];
-    for (double e : result.vertex_error) {
-      std::snprintf(line, sizeof line, "%.9g\n", e);
-      text += line;
-    }
-    files.push_back({errors_path, std::move(text)});
-  }
-  if (!medial_errors_path.empty()) {
-    std::string text = "# diagonal " + figure_text(result.diagonal) + " hausdorff " +
-                       figure_text(result.hausdorff) + " surface_to_medial_max " +
-                       figure_text(result.surface_to_medial_max) + " surface_to_medial_mean " +
-                       figure_text(result.surface_to_medial_mean) + " medial_to_surface_max " +
-                       figure_text(result.medial_to_surface_max) + " medial_to_surface_mean " +
-                       figure_text(result.medial_to_surface_mean) + "\n# x y z distance\n";
-    char line[128];
-    for (std::size_t i = 0; i < result.boundary_samples.size(); ++i) {
-      const Vec3& p = result.boundary_samples[i];
-      std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g\n", p.x(), p.y(), p.z(),
-                    result.boundary_error[i]);
-      text += line;
-    }
-    files.push_back({medial_errors_path, std::move(text)});
-  }
+  const std::vector<OutputFile> files = error_files(result, errors_path, medial_errors_path);
   if (!files.empty()) write_files_atomically(files);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -140,27 +178,7 @@ int eval_command(int argc, const char* const* argv) {
     std::cout << summary.dump() << "\n";
     return 0;
   }
-  std::cout << "shape " << shape_path << ": " << shape.points.size() << " points"
-            << (shape.is_mesh() ? ", " + std::to_string(shape.faces.size()) + " faces" : "")
-            << "\nmedial " << medial_path << ": " << medial.spheres.size() << " spheres, "
-            << medial.edges.size() << " edges, " << medial.faces.size() << " faces\n"
-            << "epsilon (two-sided Hausdorff): " << figure_text(result.percent(result.hausdorff))
-            << " % of the diagonal (" << figure_text(result.diagonal) << ")\n"
-            << "surface -> medial: max " << figure_text(result.percent(result.surface_to_medial_max))
-            << " %, mean " << figure_text(result.percent(result.surface_to_medial_mean)) << " % ("
-            << result.surface_sample_count << " samples)\n"
-            << "medial -> surface: max " << figure_text(result.percent(result.medial_to_surface_max))
-            << " %, mean " << figure_text(result.percent(result.medial_to_surface_mean)) << " % ("
-            << result.boundary_sample_count << " samples)\n";
-  std::cout << topology_line(topology) << "\n";
-  if (!shape.is_mesh())
-    std::cout << "coverage: every point within " << figure_text(result.percent(result.surface_to_medial_max))
-              << " % of the reconstruction; " << openings.openings << " opening"
-              << (openings.openings == 1 ? "" : "s")
-              << (openings.openings > 0 ? ", reached past by " +
-                                              figure_text(result.percent(openings.reach)) + " %"
-                                        : std::string())
-              << "\n";
+  print_evaluation(shape_path, shape, medial_path, medial, result, openings, topology);
   std::cout << "time: " << figure_text(seconds) << " s"
             << (errors_path.empty() ? "" : "; wrote " + errors_path)
             << (medial_errors_path.empty() ? "" : "; wrote " + medial_errors_path) << "\n";

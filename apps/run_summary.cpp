@@ -17,6 +17,10 @@ double rounded(double seconds) { return std::round(seconds * 1e3) / 1e3; }
 
 }  // namespace
 
+std::string json_line(const json& summary) {
+  return summary.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 std::string figure_text(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", value);

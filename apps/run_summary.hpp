@@ -27,6 +27,8 @@ struct RunContext {
 };
 
 json run_summary(const Result& result, const RunContext& run);
+// A summary as one line of JSON (text that is not UTF-8, in a file name, replaced).
+std::string json_line(const json& summary);
 
 // An evaluation's figures as every front end gives them (`vmas eval --json`, `skeletonize
 // --eval`, Python's evaluate()): the diagonal, the one-sided figures in % of it, the samples

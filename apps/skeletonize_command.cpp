@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,8 +73,8 @@ struct Settings {
   std::string output_format = "ply";  // of `-o -` and --output-dir: ply or ma
 };
 
-// The summary of a single run, for people.
-void print_summary(const json& s, const Settings& settings, std::ostream& out) {
+// The summary's lines about the input and its preparation.
+void print_preparation(const json& s, const Settings& settings, std::ostream& out) {
   const json& noise = s["noise"];
   const json& cleaned = s["cleaned"];
   out << "input " << s["input"].get<std::string>() << ": " << s["points"] << " points, "
@@ -136,10 +137,15 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
     out << "normals: "
         << (normals == "estimated" ? "estimated and oriented" : "given ones re-oriented")
         << " (k=" << settings.options.prepare.normals.k << ")\n";
+}
+
+// The summary of a single run, for people.
+void print_summary(const json& s, const Settings& settings, std::ostream& out) {
+  print_preparation(s, settings, out);
   const Options& o = settings.options;
   out << "parameters: "
       << (o.run.target.error > 0.0 ? "error=" + text_of(o.run.target.error)
-                        : "spheres=" + std::to_string(o.run.target.count()))
+                                   : "spheres=" + std::to_string(o.run.target.count()))
       << " lambda=" << o.run.lambda << " k=" << o.shape.k
       << " projection=" << (o.run.project ? "on" : "off") << "\n";
   out << "enclosure: winding number " << s["enclosure"] << " inside (1: closed surface)";
@@ -171,10 +177,9 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
         << " %, medial -> surface " << s["eval"]["medial_to_surface_max_percent"] << " %)\n";
   const json& t = s["seconds"];
   out << "time (s): total " << text_of(t["total"], "%.2f");
-  const char* parts[] = {"read",      "clean",        "prepare",         "shape",
-                         "partition", "update",       "projection",      "split",
-                         "refine",    "connectivity", "other_starts",    "smoothing_check",
-                         "write"};
+  const char* parts[] = {"read",         "clean",           "prepare", "shape",  "partition",
+                         "update",       "projection",      "split",   "refine", "connectivity",
+                         "other_starts", "smoothing_check", "write"};
   for (const char* part : parts)
     if ((part != std::string("smoothing_check") && part != std::string("other_starts")) ||
         t[part].get<double>() > 0.0)
@@ -329,27 +334,33 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
   return jobs;
 }
 
-}  // namespace
-
-int skeletonize_command(int argc, const char* const* argv) {
+// What the command line asks for, checked.
+struct Request {
   Settings settings;
-  RunOptionValues run_values;
   std::vector<std::string> inputs;
   std::string output, output_dir, inputs_list, labels_path;
+  bool batch = false;  // several inputs, or --output-dir
+};
+
+// The command line read and checked; nothing when it asked for --help (printed).
+std::optional<Request> read_request(int argc, const char* const* argv) {
+  Request r;
+  Settings& settings = r.settings;
+  RunOptionValues run_values;
   po::options_description visible(kDescription);
   // clang-format off
   visible.add_options()
       ("help,h", "print this help")
-      ("output,o", po::value(&output),
+      ("output,o", po::value(&r.output),
        "medial mesh to write (.ply or .ma), for one INPUT; - for standard output (the summary "
        "then goes to standard error)")
-      ("output-dir", po::value(&output_dir), "folder of the outputs, one per INPUT (created if missing)")
+      ("output-dir", po::value(&r.output_dir), "folder of the outputs, one per INPUT (created if missing)")
       ("format", po::value(&settings.output_format)->default_value("ply"),
        "with --output-dir or -o -: ply or ma")
       ("input-format", po::value(&settings.input_format),
        "with INPUT - (standard input): its format, as a file extension (xyz, ply, off, obj, pcd)")
-      ("inputs", po::value(&inputs_list), "read the INPUTs from this file, one path per line")
-      ("labels", po::value(&labels_path),
+      ("inputs", po::value(&r.inputs_list), "read the INPUTs from this file, one path per line")
+      ("labels", po::value(&r.labels_path),
        "also write the sphere of every point of the file, one per line (-1: point dropped as "
        "NaN, duplicate or outlier); one INPUT only")
       ("json", "print the summary as one JSON object (one line per INPUT with several)")
@@ -358,7 +369,7 @@ int skeletonize_command(int argc, const char* const* argv) {
   // clang-format on
   add_run_options(visible, run_values);
   po::options_description hidden;
-  hidden.add_options()("input", po::value(&inputs));
+  hidden.add_options()("input", po::value(&r.inputs));
   po::positional_options_description positional;
   positional.add("input", -1);
   po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
@@ -367,19 +378,19 @@ int skeletonize_command(int argc, const char* const* argv) {
               << "\nexamples:\n"
                  "  vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n"
                  "  vmas skeletonize scans/*.pcd --spheres 60 --output-dir skeletons --json\n";
-    return 0;
+    return std::nullopt;
   }
   po::notify(vm);
-  if (!inputs_list.empty()) {
-    const std::vector<std::string> listed = read_input_list(inputs_list);
-    inputs.insert(inputs.end(), listed.begin(), listed.end());
+  if (!r.inputs_list.empty()) {
+    const std::vector<std::string> listed = read_input_list(r.inputs_list);
+    r.inputs.insert(r.inputs.end(), listed.begin(), listed.end());
   }
-  if (inputs.empty()) throw po::error("missing INPUT");
-  const bool batch = inputs.size() > 1 || !output_dir.empty();
-  if (batch && !output.empty())
+  if (r.inputs.empty()) throw po::error("missing INPUT");
+  r.batch = r.inputs.size() > 1 || !r.output_dir.empty();
+  if (r.batch && !r.output.empty())
     throw po::error("give --output-dir for several inputs (--output names one file)");
-  if (!batch && output.empty()) throw po::error("missing --output");
-  if (batch && !labels_path.empty()) throw po::error("--labels takes one INPUT");
+  if (!r.batch && r.output.empty()) throw po::error("missing --output");
+  if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
   finish_run_options(vm, run_values);
   settings.options = run_values.options;
   settings.json = vm.count("json") > 0;
@@ -389,53 +400,57 @@ int skeletonize_command(int argc, const char* const* argv) {
   const std::string& format = settings.output_format;
   if (format != "ply" && format != "ma")
     throw InvalidOption("--format must be ply or ma (got '" + format + "')");
-  const bool from_stdin = std::any_of(inputs.begin(), inputs.end(), is_standard_stream);
-  if (from_stdin && batch) throw po::error("INPUT - (standard input) takes one INPUT");
-  check_standard_input(inputs, settings.input_format);
-  if (is_standard_stream(labels_path))
+  const bool from_stdin = std::any_of(r.inputs.begin(), r.inputs.end(), is_standard_stream);
+  if (from_stdin && r.batch) throw po::error("INPUT - (standard input) takes one INPUT");
+  check_standard_input(r.inputs, settings.input_format);
+  if (is_standard_stream(r.labels_path))
     throw po::error("--labels needs a file (- is not supported)");
+  return r;
+}
 
-  if (!batch) {
-    const bool to_stdout = is_standard_stream(output);
-    if (!to_stdout) check_output_option(output, check_medial_mesh_output);
-    if (!labels_path.empty()) check_output_option(labels_path, check_output);
-    check_distinct_files_option({inputs[0], inputs_list}, {output, labels_path});
-    const Job job{inputs[0], output, labels_path};
-    const ProgressStyle progress = settings.quiet                ? ProgressStyle::None
-                                   : isatty(fileno(stderr)) ? ProgressStyle::Terminal
-                                                            : ProgressStyle::Log;
-    // With the skeleton on standard output, the summary goes to standard error.
-    std::ostream& report = to_stdout ? std::cerr : std::cout;
-    json summary;
-    try {
-      summary = run_one(job, settings, progress);
-    } catch (const std::exception& e) {
-      // --json promises one JSON object, also on failure; the message goes to stderr as well.
-      if (!settings.json) throw;
-      report << json{{"vmas", version()}, {"input", job.input}, {"error", e.what()}}
-                    .dump(-1, ' ', false, json::error_handler_t::replace)
-             << "\n";
-      throw JsonPrinted{std::current_exception()};
-    }
-    if (settings.json)
-      report << summary.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
-    else if (!settings.quiet)
-      print_summary(summary, settings, report);
-    return 0;
+// One input: its progress on standard error, its summary on standard output (standard error
+// when the skeleton goes to standard output).
+int run_single(const Request& r) {
+  const Settings& settings = r.settings;
+  const bool to_stdout = is_standard_stream(r.output);
+  if (!to_stdout) check_output_option(r.output, check_medial_mesh_output);
+  if (!r.labels_path.empty()) check_output_option(r.labels_path, check_output);
+  check_distinct_files_option({r.inputs[0], r.inputs_list}, {r.output, r.labels_path});
+  const Job job{r.inputs[0], r.output, r.labels_path};
+  const ProgressStyle progress = settings.quiet           ? ProgressStyle::None
+                                 : isatty(fileno(stderr)) ? ProgressStyle::Terminal
+                                                          : ProgressStyle::Log;
+  std::ostream& report = to_stdout ? std::cerr : std::cout;
+  json summary;
+  try {
+    summary = run_one(job, settings, progress);
+  } catch (const std::exception& e) {
+    // --json promises one JSON object, also on failure; the message goes to stderr as well.
+    if (!settings.json) throw;
+    report << json_line({{"vmas", version()}, {"input", job.input}, {"error", e.what()}}) << "\n";
+    throw JsonPrinted{std::current_exception()};
   }
+  if (settings.json)
+    report << json_line(summary) << "\n";
+  else if (!settings.quiet)
+    print_summary(summary, settings, report);
+  return 0;
+}
 
-  // Several inputs: keep going after a failure, one line per file.
-  const std::vector<Job> jobs = batch_jobs(inputs, output_dir, format);
-  std::vector<std::string> outputs, read = inputs;
+// Several inputs: keep going after a failure, one line per file.
+int run_batch(const Request& r) {
+  const Settings& settings = r.settings;
+  const std::vector<Job> jobs = batch_jobs(r.inputs, r.output_dir, settings.output_format);
+  std::vector<std::string> outputs, read = r.inputs;
   for (const Job& job : jobs) outputs.push_back(job.output);
-  read.push_back(inputs_list);
+  read.push_back(r.inputs_list);
   check_distinct_files_option(read, outputs);
   int failed = 0;
   for (const Job& job : jobs) {
     try {
       const json s = run_one(job, settings, ProgressStyle::None);
       if (settings.json)
-        std::cout << s.dump(-1, ' ', false, json::error_handler_t::replace) << std::endl;
+        std::cout << json_line(s) << std::endl;
       else if (!settings.quiet)
         std::cout << job.input << " -> " << job.output << ": " << s["spheres"] << " spheres, "
                   << s["edges"] << " edges, " << s["medial_faces"] << " faces, "
@@ -451,8 +466,7 @@ int skeletonize_command(int argc, const char* const* argv) {
       ++failed;
       const std::string message = e.what();
       if (settings.json)
-        std::cout << json{{"vmas", version()}, {"input", job.input}, {"error", message}}
-                         .dump(-1, ' ', false, json::error_handler_t::replace)
+        std::cout << json_line({{"vmas", version()}, {"input", job.input}, {"error", message}})
                   << std::endl;
       else
         std::cout << job.input << ": failed: " << message << std::endl;
@@ -461,6 +475,14 @@ int skeletonize_command(int argc, const char* const* argv) {
   if (failed > 0)
     std::cerr << "vmas skeletonize: " << failed << " of " << jobs.size() << " inputs failed\n";
   return failed > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+int skeletonize_command(int argc, const char* const* argv) {
+  const std::optional<Request> request = read_request(argc, argv);
+  if (!request) return 0;
+  return request->batch ? run_batch(*request) : run_single(*request);
 }
 
 }  // namespace vmas::cli
