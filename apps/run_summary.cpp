@@ -74,10 +74,49 @@ std::string topology_line(const json& topology) {
   return line;
 }
 
+// The `noise` object: what was measured, and the smoothing and its check.
+json noise_summary(const PrepareReport& prepared, const SmoothingCheck& check) {
+  return {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
+          {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
+          {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
+          {"smoothed", prepared.smoothed()},
+          {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
+          {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
+          {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
+          {"thinned_points",
+           prepared.smoothed_thinned_from > 0 ? prepared.kept.size() : std::size_t{0}},
+          {"thinned_voxel_percent", percent_of(prepared.smoothed_voxel, prepared.diagonal)},
+          {"normals_turned", prepared.normals_turned},
+          {"smoothing_check",
+           {{"made", check.made},
+            {"smoothing_kept", check.smoothing_kept},
+            {"smoothed_reach_percent", percent_of(check.smoothed_reach, 1.0)},
+            {"unsmoothed_reach_percent", percent_of(check.unsmoothed_reach, 1.0)},
+            {"smoothed_cover_percent", percent_of(check.smoothed_cover, 1.0)},
+            {"unsmoothed_cover_percent", percent_of(check.unsmoothed_cover, 1.0)}}}};
+}
+
+// The `seconds` object: by stage, and in all.
+json seconds_summary(const Timings& t, const RunContext& run) {
+  return {{"read", rounded(run.read_seconds)},
+          {"clean", rounded(t.clean)},
+          {"prepare", rounded(t.prepare)},
+          {"shape", rounded(t.shape)},
+          {"partition", rounded(t.partition)},
+          {"update", rounded(t.update)},
+          {"projection", rounded(t.projection)},
+          {"split", rounded(t.split)},
+          {"refine", rounded(t.refine)},
+          {"connectivity", rounded(t.connectivity)},
+          {"other_starts", rounded(t.other_starts)},
+          {"smoothing_check", rounded(t.smoothing_check)},
+          {"write", rounded(run.write_seconds)},
+          {"total", rounded(run.read_seconds + t.total + run.write_seconds)}};
+}
+
 json run_summary(const Result& result, const RunContext& run) {
   const InputSize& input = run.input_size;
   const PrepareReport& prepared = result.prepare;
-  const SmoothingCheck& check = result.smoothing_check;
   const double diagonal = prepared.diagonal * prepared.frame.scale;
   const std::string normals = input.faces > 0              ? "from faces"
                               : prepared.normals_estimated ? "estimated"
@@ -89,99 +128,63 @@ json run_summary(const Result& result, const RunContext& run) {
   json summary = {{"vmas", version()}};
   if (!run.input.empty()) summary["input"] = run.input;
   if (!run.output.empty()) summary["output"] = run.output;
-  summary.update({{"points", input.points},
-                  {"faces", input.faces},
-                  {"normals", normals},
-                  {"cleaned",
-                   {{"non_finite_points", result.clean.non_finite_points},
-                    {"missing_normals", result.clean.missing_normals},
-                    {"duplicate_points", result.clean.duplicate_points},
-                    {"degenerate_faces", result.clean.degenerate_faces},
-                    {"unused_vertices", result.clean.unused_points}}},
-                  {"thinning",
-                   {{"applied", prepared.thinned_from > 0},
-                    {"points", prepared.kept.size() + prepared.outliers},
-                    {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
-                  {"mesh_sampling",
-                   {{"applied", prepared.mesh_sampled_from > 0},
-                    {"vertices_before", prepared.mesh_sampled_from},
-                    {"vertices", prepared.mesh_sampled_to},
-                    {"edge_limit_percent",
-                     percent_of(prepared.mesh_edge_limit, prepared.diagonal)}}},
-                  {"outliers", prepared.outliers},
-                  {"stray_clusters",
-                   {{"count", prepared.stray_clusters}, {"points", prepared.stray_points.size()}}},
-                  {"noise",
-                   {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},
-                    {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
-                    {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
-                    {"smoothed", prepared.smoothed()},
-                    {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
-                    {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
-                    {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},
-                    {"thinned_points",
-                     prepared.smoothed_thinned_from > 0 ? prepared.kept.size() : std::size_t{0}},
-                    {"thinned_voxel_percent",
-                     percent_of(prepared.smoothed_voxel, prepared.diagonal)},
-                    {"normals_turned", prepared.normals_turned},
-                    {"smoothing_check",
-                     {{"made", check.made},
-                      {"smoothing_kept", check.smoothing_kept},
-                      {"smoothed_reach_percent", percent_of(check.smoothed_reach, 1.0)},
-                      {"unsmoothed_reach_percent", percent_of(check.unsmoothed_reach, 1.0)},
-                      {"smoothed_cover_percent", percent_of(check.smoothed_cover, 1.0)},
-                      {"unsmoothed_cover_percent", percent_of(check.unsmoothed_cover, 1.0)}}}}},
-                  {"diagonal", diagonal},
-                  {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
-                  {"holes",
-                   {{"count", prepared.holes.size()},
-                    {"widest_percent",
-                     percent_of(prepared.holes.empty() ? 0.0 : prepared.holes.front().width,
-                                prepared.diagonal)}}},
-                  {"components",
-                   {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
-                  {"topology", topology_summary(result.topology, result.input_genus)},
-                  {"invalid_spheres",
-                   {{"checked", result.invalid_spheres.checked},
-                    {"outside", result.invalid_spheres.outside},
-                    {"radius_off", result.invalid_spheres.radius_off}}},
-                  {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
-                  {"starts", {{"kept", result.start_kept + 1}, {"measured_error_percent", starts}}},
-                  {"spheres", result.medial_mesh.spheres.size()},
-                  {"edges", result.medial_mesh.edges.size()},
-                  {"medial_faces", result.medial_mesh.faces.size()},
-                  {"iterations", result.summary.iterations},
-                  {"refine",
-                   {{"moves_tried", refine.tried},
-                    {"moves_kept", refine.kept},
-                    {"error_before_percent", percent_of(refine.error_before, prepared.diagonal)},
-                    {"error_after_percent", percent_of(refine.error_after, prepared.diagonal)}}},
-                  {"converged", result.summary.converged},
-                  {"stopped_by_max_iterations", result.summary.hit_max_iterations},
-                  {"total_error", result.summary.error}});
+  summary.update(
+      {{"points", input.points},
+       {"faces", input.faces},
+       {"normals", normals},
+       {"cleaned",
+        {{"non_finite_points", result.clean.non_finite_points},
+         {"missing_normals", result.clean.missing_normals},
+         {"duplicate_points", result.clean.duplicate_points},
+         {"degenerate_faces", result.clean.degenerate_faces},
+         {"unused_vertices", result.clean.unused_points}}},
+       {"thinning",
+        {{"applied", prepared.thinned_from > 0},
+         {"points", prepared.kept.size() + prepared.outliers},
+         {"voxel_percent", percent_of(prepared.voxel, prepared.diagonal)}}},
+       {"mesh_sampling",
+        {{"applied", prepared.mesh_sampled_from > 0},
+         {"vertices_before", prepared.mesh_sampled_from},
+         {"vertices", prepared.mesh_sampled_to},
+         {"edge_limit_percent", percent_of(prepared.mesh_edge_limit, prepared.diagonal)}}},
+       {"outliers", prepared.outliers},
+       {"stray_clusters",
+        {{"count", prepared.stray_clusters}, {"points", prepared.stray_points.size()}}},
+       {"noise", noise_summary(prepared, result.smoothing_check)},
+       {"diagonal", diagonal},
+       {"enclosure", std::round(result.enclosure * 100.0) / 100.0},
+       {"holes",
+        {{"count", prepared.holes.size()},
+         {"widest_percent", percent_of(prepared.holes.empty() ? 0.0 : prepared.holes.front().width,
+                                       prepared.diagonal)}}},
+       {"components",
+        {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
+       {"topology", topology_summary(result.topology, result.input_genus)},
+       {"invalid_spheres",
+        {{"checked", result.invalid_spheres.checked},
+         {"outside", result.invalid_spheres.outside},
+         {"radius_off", result.invalid_spheres.radius_off}}},
+       {"measured_error_percent", std::round(result.measured_error * 1e5) / 1e3},
+       {"starts", {{"kept", result.start_kept + 1}, {"measured_error_percent", starts}}},
+       {"spheres", result.medial_mesh.spheres.size()},
+       {"edges", result.medial_mesh.edges.size()},
+       {"medial_faces", result.medial_mesh.faces.size()},
+       {"iterations", result.summary.iterations},
+       {"refine",
+        {{"moves_tried", refine.tried},
+         {"moves_kept", refine.kept},
+         {"error_before_percent", percent_of(refine.error_before, prepared.diagonal)},
+         {"error_after_percent", percent_of(refine.error_after, prepared.diagonal)}}},
+       {"converged", result.summary.converged},
+       {"stopped_by_max_iterations", result.summary.hit_max_iterations},
+       {"total_error", result.summary.error}});
   json warnings = json::array();
   for (const Warning& w : result.warnings)
     warnings.push_back({{"code", w.code}, {"message", w.message}});
   summary["warnings"] = warnings;
-  if (const EvalResult* eval = run.eval)
-    summary["eval"] = eval_figures(*eval);
-  const Timings& t = result.seconds;
-  summary["seconds"] = {{"read", rounded(run.read_seconds)},
-                        {"clean", rounded(t.clean)},
-                        {"prepare", rounded(t.prepare)},
-                        {"shape", rounded(t.shape)},
-                        {"partition", rounded(t.partition)},
-                        {"update", rounded(t.update)},
-                        {"projection", rounded(t.projection)},
-                        {"split", rounded(t.split)},
-                        {"refine", rounded(t.refine)},
-                        {"connectivity", rounded(t.connectivity)},
-                        {"other_starts", rounded(t.other_starts)},
-                        {"smoothing_check", rounded(t.smoothing_check)},
-                        {"write", rounded(run.write_seconds)},
-                        {"total", rounded(run.read_seconds + t.total + run.write_seconds)}};
+  if (const EvalResult* eval = run.eval) summary["eval"] = eval_figures(*eval);
+  summary["seconds"] = seconds_summary(result.seconds, run);
   return summary;
 }
-
 
 }  // namespace vmas::cli
