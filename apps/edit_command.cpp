@@ -303,7 +303,9 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
       saved.bytes = std::move(bytes);
       saved.mesh = mesh;
     }
-    json reply = {{"ok", true}, {"spheres", s.spheres.size()}, {"name", saved.name},
+    json reply = {{"ok", true},
+                  {"spheres", s.spheres.size()},
+                  {"name", saved.name},
                   {"finished", s.finished}};
     if (s.finished) reply["error_percent"] = 100.0 * s.error_after_finish;
     if (!output.empty()) reply["path"] = output;
@@ -312,6 +314,28 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     throw InvalidOption("unknown op '" + op + "'");
   }
   return {{"ok", true}};
+}
+
+// Every request needs the token (query or X-Vmas-Token header); a request from another site's
+// page (its Origin) is refused even with it. Either way the connection is then closed.
+HttpServer::Guard token_guard(const std::string& token) {
+  return [token](const HttpRequest& req, HttpResponse& res) {
+    const auto query_token = req.query.find("token");
+    const std::string given =
+        query_token != req.query.end() ? query_token->second : req.header("x-vmas-token");
+    if (given != token) {
+      res.json_error(403, "missing or wrong token: open the URL that vmas edit printed");
+      return false;
+    }
+    // The page's own origin is the address it was loaded from (with --host 0.0.0.0, another
+    // machine's name for this one): the Host header of the same request.
+    const std::string page_origin = req.header("origin");
+    if (!page_origin.empty() && page_origin != "http://" + req.header("host")) {
+      res.json_error(403, "requests from " + page_origin + " are refused");
+      return false;
+    }
+    return true;
+  };
 }
 
 }  // namespace
@@ -386,25 +410,7 @@ int edit_command(int argc, const char* const* argv) {
   EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads, finish);
   const std::string shape = shape_bytes(session.shape(), faces, frame);
 
-  // Every request needs the token (query or X-Vmas-Token header); a request from another site's
-  // page (its Origin) is refused even with it. Either way the connection is then closed.
-  server.set_guard([&](const HttpRequest& req, HttpResponse& res) {
-    const auto query_token = req.query.find("token");
-    const std::string given =
-        query_token != req.query.end() ? query_token->second : req.header("x-vmas-token");
-    if (given != token) {
-      res.json_error(403, "missing or wrong token: open the URL that vmas edit printed");
-      return false;
-    }
-    // The page's own origin is the address it was loaded from (with --host 0.0.0.0, another
-    // machine's name for this one): the Host header of the same request.
-    const std::string page_origin = req.header("origin");
-    if (!page_origin.empty() && page_origin != "http://" + req.header("host")) {
-      res.json_error(403, "requests from " + page_origin + " are refused");
-      return false;
-    }
-    return true;
-  });
+  server.set_guard(token_guard(token));
   std::string page = kEditPage;  // its script tags carry the token too
   for (std::size_t at; (at = page.find("TOKEN_PLACEHOLDER")) != std::string::npos;)
     page.replace(at, std::strlen("TOKEN_PLACEHOLDER"), token);
@@ -460,7 +466,8 @@ int edit_command(int argc, const char* const* argv) {
       }
       const std::uint64_t version = session.wait_for_version(sent->version, kStreamPollMs);
       if (version > sent->version)
-        event = "data: " + state_message(session.snapshot(), *sent, preparation, frame).dump() + "\n\n";
+        event =
+            "data: " + state_message(session.snapshot(), *sent, preparation, frame).dump() + "\n\n";
       else if (Clock::now() - *last >= kKeepAlive)
         event = ": keep-alive\n\n";
       else
@@ -475,10 +482,9 @@ int edit_command(int argc, const char* const* argv) {
   server.route("POST", "/api/edit", [&](const HttpRequest& req, HttpResponse& res) {
     try {
       res.content_type = "application/json";
-      res.body =
-          apply_edit(session, json::parse(req.body), output, download_name, frame, finish_on_save,
-                     saved)
-              .dump();
+      res.body = apply_edit(session, json::parse(req.body), output, download_name, frame,
+                            finish_on_save, saved)
+                     .dump();
     } catch (const json::exception& e) {
       res.json_error(400, std::string("bad edit: ") + e.what());
     } catch (const Error& e) {
@@ -495,7 +501,8 @@ int edit_command(int argc, const char* const* argv) {
       return res.json_error(400, "format must be ply or ma (got '" + format->second + "')");
     const bool converted = format != req.query.end() && "." + format->second != name.extension();
     if (converted) name.replace_extension("." + format->second);
-    res.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name.string() + "\"");
+    res.headers.emplace_back("Content-Disposition",
+                             "attachment; filename=\"" + name.string() + "\"");
     res.content_type = "application/octet-stream";
     res.body = converted ? medial_mesh_file(name.string(), saved.mesh) : saved.bytes;
   });

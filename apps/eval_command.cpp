@@ -95,6 +95,22 @@ void print_evaluation(const std::string& shape_path, const SurfaceInput& shape,
               << "\n";
 }
 
+// The summary as JSON: the fields of docs/json.md.
+json eval_summary(const std::string& shape_path, const std::string& medial_path,
+                  const MedialMesh& medial, const EvalResult& result, const OpeningReach& openings,
+                  const json& topology, double seconds) {
+  json summary = {{"vmas", version()},
+                  {"shape", shape_path},
+                  {"medial", medial_path},
+                  {"spheres", medial.spheres.size()},
+                  {"edges", medial.edges.size()},
+                  {"faces", medial.faces.size()}};
+  summary.update(eval_figures(result, &openings));
+  summary["topology"] = topology;
+  summary["seconds"] = significant(seconds);
+  return summary;
+}
+
 }  // namespace
 
 int eval_command(int argc, const char* const* argv) {
@@ -165,17 +181,9 @@ int eval_command(int argc, const char* const* argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (vm.count("json")) {
-    // The fields of docs/json.md.
-    nlohmann::ordered_json summary = {{"vmas", version()},
-                                      {"shape", shape_path},
-                                      {"medial", medial_path},
-                                      {"spheres", medial.spheres.size()},
-                                      {"edges", medial.edges.size()},
-                                      {"faces", medial.faces.size()}};
-    summary.update(eval_figures(result, &openings));
-    summary["topology"] = topology;
-    summary["seconds"] = significant(seconds);
-    std::cout << summary.dump() << "\n";
+    std::cout << json_line(eval_summary(shape_path, medial_path, medial, result, openings, topology,
+                                        seconds))
+              << "\n";
     return 0;
   }
   print_evaluation(shape_path, shape, medial_path, medial, result, openings, topology);
