@@ -1,6 +1,6 @@
 #pragma once
-// Helpers shared by the IO stage's files: the dispatcher (io.cpp), one reader per format
-// (io_FORMAT.cpp) and the writers (io_write.cpp).
+// Helpers shared by the IO stage's files: the dispatcher (io/read.cpp), one reader per format
+// (io/FORMAT.cpp) and the writers (io/write.cpp).
 #include <algorithm>
 #include <array>
 #include <cctype>

@@ -1,4 +1,4 @@
-// Writers of the IO stage: the files' contents; io_output.cpp puts them in place.
+// Writers of the IO stage: the files' contents; io/output.cpp puts them in place.
 #include <algorithm>
 #include <charconv>
 #include <cstdint>
