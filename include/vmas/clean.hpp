@@ -7,6 +7,8 @@
 
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Coordinates beyond this magnitude are rejected: squared distances would overflow.
@@ -50,3 +52,5 @@ struct MeshDefects {
 MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces);
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

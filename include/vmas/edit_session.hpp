@@ -19,6 +19,8 @@
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct EditSnapshot {
@@ -142,3 +144,5 @@ class EditSession {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct Error : std::runtime_error {
@@ -54,3 +56,5 @@ struct Cancelled : Error {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

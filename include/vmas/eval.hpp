@@ -16,6 +16,8 @@
 
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct EvalOptions {
@@ -122,3 +124,5 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
                     const EvalOptions& options = {});
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

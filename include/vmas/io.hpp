@@ -9,6 +9,8 @@
 #include "vmas/clean.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Reads a mesh or a point cloud, chosen by extension (case-insensitive):
@@ -86,3 +88,5 @@ void check_distinct_files(const std::vector<std::string>& inputs,
                           const std::vector<std::string>& outputs);
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

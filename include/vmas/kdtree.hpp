@@ -7,6 +7,8 @@
 
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 class KdTree {
@@ -35,3 +37,5 @@ class KdTree {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -8,6 +8,8 @@
 #include "vmas/projection.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Scan noise as estimate_noise (src/prepare/noise.hpp) reads it.
@@ -153,3 +155,5 @@ void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn);
 void adapt_shrinking_ball(const PrepareReport& report, ShrinkingBallOptions& options);
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

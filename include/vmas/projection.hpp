@@ -8,6 +8,8 @@
 #include "vmas/kdtree.hpp"
 #include "vmas/shape.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct ShrinkingBallOptions {
@@ -112,3 +114,5 @@ class MedialProjector {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -10,6 +10,8 @@
 #include "vmas/skeletonizer.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct RefineOptions {
@@ -67,3 +69,5 @@ FinishReport finish_skeleton(Skeletonizer& skeletonizer, Evaluator& evaluator,
                              const ProgressCallback& progress = {});
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -9,6 +9,8 @@
 #include "vmas/sqem.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 struct ShapeOptions {
@@ -56,3 +58,5 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
 Shape coarsen_shape(const Shape& shape, std::size_t budget);
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -14,6 +14,8 @@
 #include "vmas/projection.hpp"
 #include "vmas/shape.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Spheres produced when neither a count nor an error threshold is given.
@@ -270,3 +272,5 @@ class Skeletonizer {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

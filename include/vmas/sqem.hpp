@@ -6,6 +6,8 @@
 
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Unaligned storage: the layout of an aligned 4-vector or 4x4 matrix depends on the compiler
@@ -47,3 +49,5 @@ struct Sqem {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -9,6 +9,8 @@
 #include "vmas/clean.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // Betti numbers over Z/2 of a medial mesh as a simplicial complex: its spheres, its edges and
@@ -43,3 +45,5 @@ struct SurfaceGenus {
 SurfaceGenus surface_genus(const SurfaceInput& mesh, const MeshDefects& defects);
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

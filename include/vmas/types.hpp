@@ -6,6 +6,8 @@
 #include <array>
 #include <vector>
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 using Vec3 = Eigen::Vector3d;
@@ -53,3 +55,5 @@ struct MedialMesh {
 };
 
 }  // namespace vmas
+
+#pragma GCC visibility pop

@@ -22,6 +22,8 @@
 #include "vmas/topology.hpp"
 #include "vmas/types.hpp"
 
+#pragma GCC visibility push(default)  // what the public headers declare is exported
+
 namespace vmas {
 
 // The version of the library this program runs with (e.g. "0.4.0": project()'s VERSION in
@@ -173,3 +175,5 @@ Result skeletonize(SurfaceInput input, const Options& options = {},
                    const ProgressCallback& progress = {});
 
 }  // namespace vmas
+
+#pragma GCC visibility pop
