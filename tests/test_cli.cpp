@@ -5,7 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -554,6 +556,67 @@ TEST_F(Cli, BadDenoiseValueIsAUsageError) {
     expect_one_line_error(r, "denoise");
     EXPECT_EQ(file_count(), 1u) << value;  // the input only
   }
+}
+
+// docs/cli.md's table of `vmas skeletonize` lists every option of its --help, with the same
+// default, and no other: the help is the option table, the docs follow it.
+TEST_F(Cli, TheDocumentedOptionsAreTheHelpsWithTheirDefaults) {
+  const Result r = run("skeletonize --help");
+  ASSERT_EQ(r.exit_code, 0);
+  std::map<std::string, std::string> help;  // flag -> default ("" when none)
+  const std::regex help_line(R"(^  (?:-\w \[ )?--([\w-]+)(?: \])?(?: arg)?(?: \(=([^)]*)\))?)");
+  // Without a default value, the text may say it: "default 100 when --error is absent".
+  const std::regex said_default(R"(default (\d[\d.e-]*))");
+  std::istringstream help_text(r.out);
+  std::string flag, text;
+  const auto take_said_default = [&] {
+    std::smatch m;
+    if (!flag.empty() && help[flag].empty() && std::regex_search(text, m, said_default))
+      help[flag] = m[1];
+  };
+  for (std::string line; std::getline(help_text, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, help_line)) {
+      take_said_default();
+      flag = m[1];
+      help[flag] = m[2];
+      text = line;
+    } else {
+      text += " " + line;
+    }
+  }
+  take_said_default();
+  std::ifstream docs_file(std::string(VMAS_SOURCE_DIR) + "/docs/cli.md");
+  ASSERT_TRUE(docs_file) << "docs/cli.md";
+  std::map<std::string, std::string> docs;
+  const std::regex row(R"(^\| `(?:-\w, )?--([\w-]+)[^`]*` \| ([^|]*) \|)");
+  bool in_skeletonize = false;
+  for (std::string line; std::getline(docs_file, line);) {
+    if (line.rfind("## ", 0) == 0) in_skeletonize = line.find("vmas skeletonize") != std::string::npos;
+    std::smatch m;
+    if (in_skeletonize && std::regex_search(line, m, row)) docs[m[1]] = m[2];
+  }
+  ASSERT_GT(help.size(), 30u);
+  // The same number however it is written ("1e-05", "1e-5"); "off" and "—" are no default.
+  const auto same_default = [](const std::string& in_help, std::string in_docs) {
+    if (in_docs == "—" || in_docs == "off") return in_help.empty() || in_help == "0";
+    try {
+      return std::stod(in_help) == std::stod(in_docs);
+    } catch (const std::exception&) {
+      return in_help == in_docs;
+    }
+  };
+  for (const auto& [flag, value] : help) {
+    if (flag == "help") continue;
+    if (!docs.count(flag)) {
+      ADD_FAILURE() << "--" << flag << " is not in docs/cli.md";
+      continue;
+    }
+    EXPECT_TRUE(same_default(value, docs[flag]))
+        << "--" << flag << ": help says " << value << ", docs/cli.md " << docs[flag];
+  }
+  for (const auto& [flag, value] : docs)
+    EXPECT_TRUE(help.count(flag)) << "docs/cli.md lists --" << flag << ", which is no option";
 }
 
 }  // namespace
