@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "http_server.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/error.hpp"
+#include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
 
@@ -68,9 +70,74 @@ std::string random_token() {
   return token;
 }
 
+// vmas eval's measure of what "save" would write (the live skeleton in the input's coordinates,
+// against the input as vmas eval reads it): the page's ε. Taken on one core, in a thread of its
+// own, whenever the skeleton holds still (paused, finished, or settled: the session has measured
+// it) and differs from the one measured last.
+class SaveMeasure {
+ public:
+  struct Figure {
+    double percent = -1.0;  // < 0: none yet
+    int iteration = -1;     // the session's step it measured
+    std::uint64_t count = 0;  // measurements so far
+  };
+
+  SaveMeasure(SurfaceInput input, const EditSession& session, const Frame& frame)
+      : input_(std::move(input)), session_(session), frame_(frame), worker_([this] { work(); }) {}
+  ~SaveMeasure() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    stopped_.notify_all();
+    worker_.join();
+  }
+  Figure latest() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return latest_;
+  }
+
+ private:
+  void work() {
+    const ThreadCount one_core(1);  // the optimisation keeps the others
+    std::vector<double> measured;  // the spheres measured last, flat: x y z r each
+    int measured_at = -1;
+    for (std::uint64_t version = 0;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (stopped_.wait_for(lock, std::chrono::milliseconds(200), [&] { return stop_; })) return;
+      }
+      if (session_.snapshot().version == version) continue;
+      const EditSnapshot s = session_.snapshot();
+      version = s.version;
+      const bool still = s.paused || s.finished || s.measured_at_iteration > measured_at;
+      std::vector<double> spheres;
+      for (const Sphere& sphere : s.spheres)
+        spheres.insert(spheres.end(), {sphere.center.x(), sphere.center.y(), sphere.center.z(),
+                                       sphere.radius});
+      if (!still || s.finishing || spheres == measured || spheres.empty()) continue;
+      const EvalResult result = evaluate(input_, frame_.to_input(s.mesh));
+      measured = std::move(spheres);
+      measured_at = s.measured_at_iteration;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      latest_ = {result.percent(result.hausdorff), s.iteration, latest_.count + 1};
+    }
+  }
+
+  const SurfaceInput input_;  // cleaned, as vmas eval reads it
+  const EditSession& session_;
+  const Frame frame_;
+  mutable std::mutex mutex_;
+  std::condition_variable stopped_;
+  bool stop_ = false;
+  Figure latest_;
+  std::thread worker_;  // last: started once the rest is set
+};
+
 // What one page has been sent so far: the next update carries only what changed.
 struct Sent {
   std::uint64_t version = 0;
+  std::uint64_t save_measures = 0;  // SaveMeasure::Figure::count
   std::vector<std::array<int, 2>> edges;
   std::vector<std::array<int, 3>> faces;
   std::vector<std::uint64_t> keys;
@@ -138,7 +205,8 @@ json preparation_summary(const Result& prepared, int points) {
 }
 
 // Spheres and points go to the page in the input's coordinates (`frame`: the working frame's).
-json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame) {
+json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame,
+                   const SaveMeasure::Figure& save_measure) {
   json spheres = json::array();
   for (const Sphere& sphere : s.spheres) {
     const Vec3 center = frame.to_input(sphere.center);
@@ -163,6 +231,8 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"cancelled_finishes", s.cancelled_finishes},
                   {"measured_error_percent", 100.0 * s.measured_error},
                   {"measured_at_iteration", s.measured_at_iteration},
+                  {"save_error_percent", save_measure.percent},
+                  {"save_error_at_iteration", save_measure.iteration},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres}};
@@ -174,6 +244,7 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
   sent.keys = s.keys;
   if (sent.version == 0) message["preparation"] = preparation;
   sent.version = s.version;
+  sent.save_measures = save_measure.count;
   return message;
 }
 
@@ -401,13 +472,17 @@ int edit_command(int argc, const char* const* argv) {
   }
   const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
-  PreparedShape prepared = prepare_shape(read_surface_as_stored(input), run_values.options);
+  SurfaceInput stored = read_surface_as_stored(input);
+  SurfaceInput as_eval_reads = stored;
+  clean_surface(as_eval_reads);
+  PreparedShape prepared = prepare_shape(std::move(stored), run_values.options);
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
   // Finishing an untouched session also runs vmas skeletonize's starts (and keeps the better).
   const FinishOptions finish = finish_as_skeletonize_does(prepared, run_values.options);
   EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads, finish);
+  const SaveMeasure save_measure(std::move(as_eval_reads), session, frame);
   const std::string shape = shape_bytes(session.shape(), faces, frame);
 
   server.set_guard(token_guard(token));
@@ -465,9 +540,11 @@ int edit_command(int argc, const char* const* argv) {
         return true;
       }
       const std::uint64_t version = session.wait_for_version(sent->version, kStreamPollMs);
-      if (version > sent->version)
-        event =
-            "data: " + state_message(session.snapshot(), *sent, preparation, frame).dump() + "\n\n";
+      const SaveMeasure::Figure measured = save_measure.latest();
+      if (version > sent->version || measured.count != sent->save_measures)
+        event = "data: " +
+                state_message(session.snapshot(), *sent, preparation, frame, measured).dump() +
+                "\n\n";
       else if (Clock::now() - *last >= kKeepAlive)
         event = ": keep-alive\n\n";
       else

@@ -181,6 +181,35 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
 }
 
+// The page's ε is what vmas eval says of the skeleton a save writes: measured whenever the
+// skeleton holds still, here paused after an edit.
+TEST_F(EditServer, ThePagesErrorIsVmasEvalsOfWhatASaveWrites) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 53);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  write_surface(path("capsule.xyz"), cloud);
+  start({path("capsule.xyz"), "--spheres", "8", "-o", path("saved.ply"), "--threads", "1",
+         "--finish-on-save", "false"});
+  ASSERT_EQ(state_with_spheres(8)["spheres"].size(), 8u);
+  ASSERT_TRUE(edit({{"op", "pause"}}));
+  ASSERT_TRUE(edit({{"op", "target"}, {"spheres", 7}}));  // an edit while paused
+  const json paused = state_when([](const json& state) {
+    return state["paused"].get<bool>() && state["spheres"].size() == 7u &&
+           state["save_error_percent"].get<double>() > 0.0 &&
+           state["save_error_at_iteration"] == state["iteration"];
+  });
+  ASSERT_EQ(paused["spheres"].size(), 7u) << paused.dump();
+  const auto saved = edit({{"op", "save"}});
+  ASSERT_TRUE(saved);
+  ASSERT_EQ(saved->status, 200) << saved->body;
+  const test::CliResult eval =
+      run("eval " + path("capsule.xyz") + " " + path("saved.ply") + " --json");
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  EXPECT_NEAR(paused["save_error_percent"].get<double>(),
+              json::parse(eval.out)["hausdorff_percent"].get<double>(), 1e-3);
+}
+
 TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
   start({path("ball.off"), "--spheres", "3", "--threads", "1"});
