@@ -17,6 +17,7 @@
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -73,7 +74,9 @@ std::string random_token() {
 // vmas eval's measure of what "save" would write (the live skeleton in the input's coordinates,
 // against the input as vmas eval reads it): the page's ε. Taken on one core, in a thread of its
 // own, whenever the skeleton holds still (paused, finished, or settled: the session has measured
-// it) and differs from the one measured last.
+// it) and differs from the one measured last. Maxima only (they are a full evaluation's), with
+// the input's distance structure built once: a measurement at a million points takes a
+// fraction of a second, so that the thread also stops soon.
 class SaveMeasure {
  public:
   struct Figure {
@@ -100,6 +103,7 @@ class SaveMeasure {
  private:
   void work() {
     const ThreadCount one_core(1);  // the optimisation keeps the others
+    std::optional<Evaluator> evaluator;  // built at the first measurement
     std::vector<double> measured;  // the spheres measured last, flat: x y z r each
     int measured_at = -1;
     for (std::uint64_t version = 0;;) {
@@ -116,7 +120,12 @@ class SaveMeasure {
         spheres.insert(spheres.end(), {sphere.center.x(), sphere.center.y(), sphere.center.z(),
                                        sphere.radius});
       if (!still || s.finishing || spheres == measured || spheres.empty()) continue;
-      const EvalResult result = evaluate(input_, frame_.to_input(s.mesh));
+      if (!evaluator) {
+        EvalOptions as_vmas_eval;
+        as_vmas_eval.maxima_only = true;
+        evaluator.emplace(input_, as_vmas_eval);
+      }
+      const EvalResult result = (*evaluator)(frame_.to_input(s.mesh));
       measured = std::move(spheres);
       measured_at = s.measured_at_iteration;
       const std::lock_guard<std::mutex> lock(mutex_);
