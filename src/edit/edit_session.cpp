@@ -31,7 +31,7 @@ constexpr auto kMeasureInterval = std::chrono::seconds(2);
 }  // namespace
 
 // The session behind EditSession: the worker thread, the queue of edits and the undo history.
-struct __attribute__((visibility("hidden"))) EditSession::Impl {
+struct EditSession::Impl {
   Impl(Shape shape, const SkeletonizerOptions& options, int threads, FinishOptions finish);
   ~Impl();  // stops the worker
 

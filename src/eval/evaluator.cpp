@@ -196,8 +196,9 @@ void EvalOptions::validate() const {
   }
 }
 
-// Hidden like the stages it holds.
-struct __attribute__((visibility("hidden"))) Evaluator::Impl {
+// What the Evaluator keeps between calls (a nested class of a public one: its members are
+// exported with it, unlike the internal stages it holds).
+struct Evaluator::Impl {
   Impl(const SurfaceInput& shape, const EvalOptions& options)
       : options(options), shape(shape), distance(shape, options.cloud_as_discs) {}
 
