@@ -7,7 +7,7 @@
 // Ctrl-Z / Ctrl-Shift-Z take each back and
 // make it again, quick + presses add up, the spheres are one draw call and the mouse picks the
 // one in front, a clicked sphere gains an outline and keeps its palette colour (frozen: a dashed
-// one), the finish button refines and pauses, E shows the error map with its legend and the worst
+// one), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
 // point ringed (on a mesh, on an opaque surface: a second vmas), W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
 // .ma file, ? shows and hides the help, the panel folds away and back, P and M toggle the points
 // and the medial mesh (I says a point cloud has no surface), the sliders set the count and λ,
@@ -254,6 +254,7 @@ async function main() {
     'shift-drag selects the spheres in a box, the freeze button freezes them; undo, redo',
     'the spheres are one draw call, and the mouse picks the sphere in front',
     'a clicked sphere keeps its palette colour and gains an outline; F freezes it: a dashed outline',
+    'turning the view, a big cloud is drawn coarser, and whole once the view stops',
     'finish refines and pauses', 'E colours the points by their distance to the skeleton, and back',
     'E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both',
     'on a mesh, E shows the map on an opaque surface',
@@ -882,6 +883,29 @@ async function main() {
       await page.keyboard.press('p');
       await page.keyboard.press(' ');
     }
+  });
+
+  await check('turning the view, a big cloud is drawn coarser, and whole once the view stops', async () => {
+    // Above movingPoints points (VMAS_BROWSER_POINTS), every k-th is drawn while the view turns.
+    const { budget, all } = await page.evaluate(() => ({ budget: movingPoints, all: pointCloud.geometry.attributes.position.count }));
+    const drawn = async () => { await frame(); return page.evaluate(() => renderer.info.render.points); };
+    const [x, y] = [VIEWPORT.width * 0.7, VIEWPORT.height * 0.7];
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    let moving;
+    try {
+      await page.mouse.move(x + 40, y + 10, { steps: 4 });
+      moving = await drawn();
+    } finally {
+      await page.mouse.up();
+    }
+    const stopped = await drawn();
+    await page.keyboard.press('v');
+    if (!(moving <= budget && (all <= budget ? moving === all : moving < all)))
+      fail(`${moving} of ${all} points drawn while the view turns (at most ${budget})`);
+    if (stopped !== all) fail(`${stopped} of ${all} points drawn once the view stopped`);
+    noPageErrors();
+    return `${moving} of ${all} points while turning, ${stopped} once stopped`;
   });
 
   let finished = null;  // A and B of the status line's 'finished: measured error A % → B %'
