@@ -5,8 +5,10 @@
 // removes, a click on a point and the split button split there, shift-clicks and a shift-drag
 // box select spheres that the freeze button freezes in one edit (D leaves frozen spheres),
 // Ctrl-Z / Ctrl-Shift-Z take each back and
-// make it again, quick + presses add up, the finish button refines and pauses, E shows the error
-// map, W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
+// make it again, quick + presses add up, the spheres are one draw call and the mouse picks the
+// one in front, a clicked sphere gains an outline and keeps its palette colour (frozen: a dashed
+// one), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
+// point ringed (on a mesh, on an opaque surface: a second vmas), W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
 // .ma file, ? shows and hides the help, the panel folds away and back, P and M toggle the points
 // and the medial mesh (I says a point cloud has no surface), the sliders set the count and λ,
 // the screenshot button and K download a PNG, at 800 × 600 the folded panel leaves the model's
@@ -80,6 +82,22 @@ function writeTorus(file, count) {
     const yt = y * Math.cos(tilt) - z * Math.sin(tilt), zt = y * Math.sin(tilt) + z * Math.cos(tilt);
     lines.push(`${x.toFixed(6)} ${yt.toFixed(6)} ${zt.toFixed(6)}`);
   }
+  fs.writeFileSync(file, lines.join('\n') + '\n');
+}
+
+// The same torus as a mesh (OFF): a U × V grid of its parameters, two triangles a cell, facing out.
+function writeTorusMesh(file, U = 48, V = 16) {
+  const R = 1.0, r = 0.35, tilt = Math.PI / 4, lines = ['OFF', `${U * V} ${2 * U * V} 0`];
+  for (let i = 0; i < U; ++i)
+    for (let j = 0; j < V; ++j) {
+      const u = 2 * Math.PI * i / U, v = 2 * Math.PI * j / V;
+      const x = (R + r * Math.cos(v)) * Math.cos(u), y = (R + r * Math.cos(v)) * Math.sin(u), z = r * Math.sin(v);
+      lines.push(`${x.toFixed(6)} ${(y * Math.cos(tilt) - z * Math.sin(tilt)).toFixed(6)} ${(y * Math.sin(tilt) + z * Math.cos(tilt)).toFixed(6)}`);
+    }
+  const at = (i, j) => (i % U) * V + (j % V);
+  for (let i = 0; i < U; ++i)
+    for (let j = 0; j < V; ++j)
+      lines.push(`3 ${at(i, j)} ${at(i + 1, j)} ${at(i + 1, j + 1)}`, `3 ${at(i, j)} ${at(i + 1, j + 1)} ${at(i, j + 1)}`);
   fs.writeFileSync(file, lines.join('\n') + '\n');
 }
 
@@ -234,7 +252,12 @@ async function main() {
     'a click on a point selects its sphere and the split button splits there; undo, redo',
     'shift-click selects two spheres and the freeze button freezes both',
     'shift-drag selects the spheres in a box, the freeze button freezes them; undo, redo',
+    'the spheres are one draw call, and the mouse picks the sphere in front',
+    'a clicked sphere keeps its palette colour and gains an outline; F freezes it: a dashed outline',
+    'turning the view, a big cloud is drawn coarser, and whole once the view stops',
     'finish refines and pauses', 'E colours the points by their distance to the skeleton, and back',
+    'E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both',
+    'on a mesh, E shows the map on an opaque surface',
     'W saves the skeleton and downloads it', 'the .ma button downloads the skeleton as a .ma file',
     '? shows the help overlay and hides it again', 'the panel folds away and back',
     'P, M and I toggle points, medial mesh and surface, the buttons show it; V fits the view', 'the sliders set the count and λ',
@@ -703,6 +726,188 @@ async function main() {
     return `spheres ${expected.join(', ')} in the box; frozen now ${frozenAll.join(', ')}`;
   });
 
+  // --- the spheres: one draw call, picking, outlines --------------------------------------------
+  // Where each sphere's centre is seen (rounded to a pixel, as the mouse goes), the sphere a ray
+  // meets first, by three.js's own raycast at a fine mesh of each sphere; the spheres whose disc
+  // is in view and off the panel, the nearest the view's centre first.
+  const spheresInView = async () => {
+    const panel = await page.locator('#panel').boundingBox();
+    return page.evaluate((panel) => {
+      const meshes = state.spheres.map(([x, y, z, r], i) => {
+        const mesh = new THREE.Mesh(new THREE.SphereBufferGeometry(r, 64, 48));
+        mesh.position.set(x, y, z);
+        mesh.updateMatrixWorld();
+        mesh.userData.key = state.keys[i];
+        return mesh;
+      });
+      const caster = new THREE.Raycaster(), ndc = new THREE.Vector2();
+      const focal = innerHeight / 2 / Math.tan(camera.fov * Math.PI / 360);  // pixels at distance 1
+      const seen = state.spheres.map(([x, y, z, r], i) => {
+        const centre = new THREE.Vector3(x, y, z), p = centre.clone().project(camera);
+        const at = { x: Math.round((p.x + 1) / 2 * innerWidth), y: Math.round((1 - p.y) / 2 * innerHeight) };
+        caster.setFromCamera(ndc.set(at.x / innerWidth * 2 - 1, 1 - at.y / innerHeight * 2), camera);
+        const hits = caster.intersectObjects(meshes);
+        // The silhouette's radius on the screen, in CSS pixels.
+        const radius = focal * Math.tan(Math.asin(Math.min(1, r / camera.position.distanceTo(centre))));
+        return { key: state.keys[i], frozen: state.frozen[i], ...at, radius, front: hits.length ? hits[0].object.userData.key : -1 };
+      });
+      const clear = (x, y) => x > 0 && y > 0 && x < innerWidth && y < innerHeight &&
+                              !(x < panel.x + panel.width + 10 && y < panel.y + panel.height + 10);
+      return seen.filter((s) => clear(s.x - 1.2 * s.radius, s.y - 1.2 * s.radius) && clear(s.x + 1.2 * s.radius, s.y + 1.2 * s.radius))
+        .sort((a, b) => Math.hypot(a.x - innerWidth / 2, a.y - innerHeight / 2) - Math.hypot(b.x - innerWidth / 2, b.y - innerHeight / 2));
+    }, panel);
+  };
+  const nowhere = { x: VIEWPORT.width - 5, y: VIEWPORT.height - 5 };  // no point, no sphere: nothing hovered
+
+  await check('the spheres are one draw call, and the mouse picks the sphere in front', async () => {
+    await page.keyboard.press(' ');
+    await waitForStatus(/^spheres \d+\/\d+ +iteration \d+ +paused /, '\'paused\' after Space');
+    // H hides the spheres: one draw call fewer.
+    const calls = async () => { await nextFrame(); await nextFrame(); return page.evaluate(() => renderer.info.render.calls); };
+    const shown = await calls();
+    await page.keyboard.press('h');
+    const hidden = await calls();
+    await page.keyboard.press('h');
+    if (shown - hidden !== 1) fail(`${shown} draw calls with the spheres, ${hidden} without (H)`);
+    // The points hidden (P), only the spheres can be hovered.
+    await page.keyboard.press('p');
+    const targets = (await spheresInView()).slice(0, 5);
+    try {
+      if (!targets.length) fail('no sphere in view off the panel');
+      for (const target of targets) {
+        await page.mouse.move(target.x, target.y);
+        const hovered = / hovered sphere (\d+)/.exec(await statusText());
+        if (!hovered || Number(hovered[1]) !== target.front)
+          fail(`at (${target.x}, ${target.y}), sphere ${target.key}'s centre, the status line says '${await statusText()}'; ` +
+               `the sphere in front there is ${target.front}`);
+      }
+    } finally {
+      await page.mouse.move(nowhere.x, nowhere.y);
+      await page.keyboard.press('p');
+    }
+    noPageErrors();
+    return `${shown - hidden} draw call for ${(await page.evaluate(() => state.spheres.length))} spheres; ` +
+           `spheres ${targets.map((t) => t.front).join(', ')} picked at their centres`;
+  });
+
+  // What the canvas shows of sphere KEY against the frame kept by a call with BASELINE: the pixels
+  // that got brighter (the sum of their channels up by 150 or more), how many of them lie along
+  // the silhouette (within 5 px of it), the largest change of a channel within 0.7 radii of the
+  // centre (where the sphere's own colour shows), and whether the colour the shaders are given
+  // for it is its palette colour. Read back from the drawing buffer, which the page preserves.
+  const readDisc = (key, baseline) => page.evaluate(([key, baseline]) => {
+    const i = state.keys.indexOf(key), [x, y, z, r] = state.spheres[i];
+    const centre = new THREE.Vector3(x, y, z), ratio = renderer.getPixelRatio();
+    const onScreen = (v) => { const p = v.clone().project(camera); return [ratio * (p.x + 1) / 2 * innerWidth, ratio * (1 - p.y) / 2 * innerHeight]; };
+    const [cx, cy] = onScreen(centre);
+    // The silhouette: the circle where the eye's rays touch the sphere, in device pixels.
+    const toSphere = centre.clone().sub(camera.position), d = toSphere.length();
+    toSphere.divideScalar(d);
+    const u = new THREE.Vector3().crossVectors(toSphere, camera.up).normalize(), w = new THREE.Vector3().crossVectors(toSphere, u);
+    const rimCentre = centre.clone().addScaledVector(toSphere, -r * r / d), rimRadius = r * Math.sqrt(d * d - r * r) / d;
+    const rim = Array.from({ length: 360 }, (_, k) => onScreen(rimCentre.clone()
+      .addScaledVector(u, rimRadius * Math.cos(k * Math.PI / 180)).addScaledVector(w, rimRadius * Math.sin(k * Math.PI / 180))));
+    const radius = Math.max(...rim.map(([rx, ry]) => Math.hypot(rx - cx, ry - cy)));
+    const side = Math.ceil(2.4 * radius), left = Math.round(cx - side / 2), top = Math.round(cy - side / 2);
+    const gl = renderer.getContext(), pixels = new Uint8Array(4 * side * side);
+    gl.readPixels(left, gl.drawingBufferHeight - top - side, side, side, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+    if (baseline) {
+      window.discBaseline = pixels;
+      return null;
+    }
+    const before = window.discBaseline;
+    let brighter = 0, aboutSilhouette = 0, inside = 0;
+    for (let row = 0; row < side; ++row)
+      for (let column = 0; column < side; ++column) {
+        const at = 4 * (row * side + column);
+        const [px, py] = [left + column + 0.5, top + side - 1 - row + 0.5];  // rows come bottom up
+        const gain = pixels[at] + pixels[at + 1] + pixels[at + 2] - before[at] - before[at + 1] - before[at + 2];
+        if (gain >= 150) {
+          ++brighter;
+          if (Math.min(...rim.map(([rx, ry]) => Math.hypot(rx - px, ry - py))) <= 5 * ratio) ++aboutSilhouette;
+        }
+        if (Math.hypot(px - cx, py - cy) < 0.7 * radius)
+          for (let c = 0; c < 3; ++c) inside = Math.max(inside, Math.abs(pixels[at + c] - before[at + c]));
+      }
+    // The colour the sphere is drawn in, from the instance data the shaders read.
+    const instance = sphereOrder.indexOf(i), colours = sphereMesh.geometry.attributes.instanceColour.array;
+    const drawn = new THREE.Color().fromArray(colours, 4 * instance), palette = clusterColor(i, new THREE.Color());
+    return { radius, brighter, aboutSilhouette, inside, drawn: drawn.getHexString(), palette: palette.getHexString(),
+             paletteColour: Math.max(...['r', 'g', 'b'].map((c) => Math.abs(drawn[c] - palette[c]))) < 1e-6 };
+  }, [key, baseline]);
+  const frame = async () => { await nextFrame(); await nextFrame(); };
+
+  await check('a clicked sphere keeps its palette colour and gains an outline; F freezes it: a dashed outline', async () => {
+    // Paused (since the last check), the points hidden (P): only the sphere's own drawing changes.
+    await page.keyboard.press('p');
+    try {
+      const candidates = (await spheresInView()).filter((s) => !s.frozen && s.front === s.key && s.radius >= 15 && s.radius <= 150);
+      if (!candidates.length) fail('no unfrozen sphere in view, 12 to 150 px across, in front at its centre');
+      const target = candidates[0];
+      await page.mouse.move(nowhere.x, nowhere.y);
+      await frame();
+      await readDisc(target.key, true);
+      await page.mouse.click(target.x, target.y);
+      status = await statusText();
+      if (selection(status).key !== target.key) fail(`a click on sphere ${target.key}'s centre: status '${status}'`);
+      await page.mouse.move(nowhere.x, nowhere.y);  // selected, not hovered
+      await frame();
+      const selected = await readDisc(target.key);
+      const ring = 2 * Math.PI * selected.radius * 3 * (await page.evaluate(() => renderer.getPixelRatio()));
+      const describe = (d) => `${d.brighter} pixels brighter (${d.aboutSilhouette} about the silhouette, ` +
+        `${Math.round(ring)} in a 3 px ring), colours within 0.7 radii changed by up to ${d.inside}, drawn #${d.drawn}, palette #${d.palette}`;
+      if (!selected.paletteColour) fail(`selected, sphere ${target.key}: ${describe(selected)}`);
+      if (!(selected.brighter >= 0.5 * ring && selected.aboutSilhouette >= 0.9 * selected.brighter && selected.inside <= 3))
+        fail(`selected, sphere ${target.key} shows no outline of its own colour: ${describe(selected)}`);
+      // F freezes the selection; Esc clears it: frozen alone, a dashed outline.
+      await page.keyboard.press('f');
+      for (const deadline = Date.now() + WAIT_MS; !(await frozenKeys()).includes(target.key);) {
+        if (Date.now() > deadline) fail(`F did not freeze sphere ${target.key}`);
+        await page.waitForTimeout(50);
+      }
+      await page.keyboard.press('Escape');
+      await frame();
+      const frozen = await readDisc(target.key);
+      if (!frozen.paletteColour) fail(`frozen, sphere ${target.key}: ${describe(frozen)}`);
+      if (!(frozen.brighter >= 0.25 * selected.brighter && frozen.brighter <= 0.75 * selected.brighter &&
+            frozen.aboutSilhouette >= 0.9 * frozen.brighter && frozen.inside <= 3))
+        fail(`frozen, sphere ${target.key} shows no dashed outline of its own colour: ${describe(frozen)}`);
+      await page.keyboard.press('Control+z');
+      for (const deadline = Date.now() + WAIT_MS; (await frozenKeys()).includes(target.key);) {
+        if (Date.now() > deadline) fail(`Ctrl-Z did not unfreeze sphere ${target.key}`);
+        await page.waitForTimeout(50);
+      }
+      noPageErrors();
+      return `sphere ${target.key}, ${Math.round(selected.radius)} px: selected ${describe(selected)}; frozen ${frozen.brighter} pixels brighter`;
+    } finally {
+      await page.keyboard.press('p');
+      await page.keyboard.press(' ');
+    }
+  });
+
+  await check('turning the view, a big cloud is drawn coarser, and whole once the view stops', async () => {
+    // Above movingPoints points (VMAS_BROWSER_POINTS), every k-th is drawn while the view turns.
+    const { budget, all } = await page.evaluate(() => ({ budget: movingPoints, all: pointCloud.geometry.attributes.position.count }));
+    const drawn = async () => { await frame(); return page.evaluate(() => renderer.info.render.points); };
+    const [x, y] = [VIEWPORT.width * 0.7, VIEWPORT.height * 0.7];
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    let moving;
+    try {
+      await page.mouse.move(x + 40, y + 10, { steps: 4 });
+      moving = await drawn();
+    } finally {
+      await page.mouse.up();
+    }
+    const stopped = await drawn();
+    await page.keyboard.press('v');
+    if (!(moving <= budget && (all <= budget ? moving === all : moving < all)))
+      fail(`${moving} of ${all} points drawn while the view turns (at most ${budget})`);
+    if (stopped !== all) fail(`${stopped} of ${all} points drawn once the view stopped`);
+    noPageErrors();
+    return `${moving} of ${all} points while turning, ${stopped} once stopped`;
+  });
+
   let finished = null;  // A and B of the status line's 'finished: measured error A % → B %'
   await check('finish refines and pauses', async () => {
     const before = sphereCount(await statusText());
@@ -751,6 +956,86 @@ async function main() {
     if (await colours() !== clusterColours) fail('a second E did not bring the cluster colours back');
     noPageErrors();
     return `largest ${largest} % of the diagonal`;
+  });
+
+  await check('E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both', async () => {
+    if (await shown('#legend') || await shown('#worst')) fail('the legend or the worst point is shown with the map off');
+    await page.keyboard.press('e');
+    for (const deadline = Date.now() + WAIT_MS; !(await shown('#legend'));) {
+      if (Date.now() > deadline) fail(`no legend ${WAIT_MS / 1000} s after E`);
+      await page.waitForTimeout(50);
+    }
+    // The map fetched (E fetches it again): the message says its range.
+    for (const deadline = Date.now() + WAIT_MS; !/error map: .* red /.test(await page.textContent('#message'));) {
+      if (Date.now() > deadline) fail(`no error map ${WAIT_MS / 1000} s after E: #message '${await page.textContent('#message')}'`);
+      await page.waitForTimeout(50);
+    }
+    await nextFrame();
+    // The worst point and its distance, from the distances the page fetched.
+    const worst = await page.evaluate(() => {
+      let vertex = 0;
+      state.errors.forEach((error, v) => { if (error > state.errors[vertex]) vertex = v; });
+      const p = new THREE.Vector3().fromArray(state.points, 3 * vertex).project(camera);
+      return { percent: (100 * state.errors[vertex]).toFixed(2), half: (50 * state.errors[vertex]).toFixed(2),
+               x: (p.x + 1) / 2 * innerWidth, y: (1 - p.y) / 2 * innerHeight };
+    });
+    const legend = await page.evaluate(() => ({
+      middle: document.getElementById('legend-middle').textContent, largest: document.getElementById('legend-largest').textContent,
+      bar: getComputedStyle(document.getElementById('legend-bar')).backgroundImage }));
+    if (legend.largest !== `${worst.percent} %` || legend.middle !== worst.half)
+      fail(`the legend's range is 0 … ${legend.middle} … ${legend.largest}; the largest distance is ${worst.percent} %`);
+    if (!/^linear-gradient\(to right, (rgb\(\d+, \d+, \d+\)(, )?){9}\)$/.test(legend.bar)) fail(`the legend's bar is '${legend.bar}'`);
+    const message = await page.textContent('#message');
+    if (!message.includes(`red ${worst.percent} %`)) fail(`the legend says ${worst.percent} %, the message '${message}'`);
+    if (!(await shown('#worst'))) fail('the worst point is not marked');
+    const marker = await page.locator('#worst').boundingBox();
+    const [mx, my] = [marker.x + marker.width / 2, marker.y + marker.height / 2];
+    if (Math.hypot(mx - worst.x, my - worst.y) > 1.5)
+      fail(`the worst point's ring is centred at (${mx.toFixed(1)}, ${my.toFixed(1)}), the point is at (${worst.x.toFixed(1)}, ${worst.y.toFixed(1)})`);
+    const label = (await page.textContent('#worst')).trim();
+    if (label !== `worst ${worst.percent} %`) fail(`the worst point is labelled '${label}'`);
+    await page.keyboard.press('e');
+    await nextFrame();
+    if (await shown('#legend') || await shown('#worst')) fail('a second E leaves the legend or the worst point shown');
+    noPageErrors();
+    return `0 … ${legend.middle} … ${legend.largest}; '${label}' at (${Math.round(mx)}, ${Math.round(my)})`;
+  });
+
+  await check('on a mesh, E shows the map on an opaque surface', async () => {
+    // A second vmas, on a torus mesh, and a page of its own.
+    const off = path.join(tmp, 'torus.off');
+    writeTorusMesh(off);
+    const meshVmas = spawn(vmasBinary, ['edit', off, '--spheres', '8', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    const exited = new Promise((resolve) => meshVmas.on('exit', (code, signal) => resolve(signal || code)));
+    const meshPage = await page.context().newPage();
+    meshPage.on('pageerror', (error) => pageErrors.push(`uncaught (mesh page): ${error.message}`));
+    try {
+      const meshUrl = await Promise.race([
+        new Promise((resolve) => readline.createInterface({ input: meshVmas.stdout }).once('line', resolve)),
+        exited.then((how) => fail(`vmas on the mesh exited (${how}) before printing a URL`)),
+        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the mesh after ${WAIT_MS / 1000} s`)), WAIT_MS)),
+      ]);
+      await meshPage.goto(meshUrl, { waitUntil: 'load' });
+      await meshPage.waitForFunction(() => typeof last !== 'undefined' && last && surfaceMesh);
+      const surface = () => meshPage.evaluate(() => {
+        const m = surfaceMesh.material;
+        return `transparent ${m.transparent}, opacity ${m.opacity}, depthWrite ${m.depthWrite}, vertexColors ${!!m.vertexColors}`;
+      });
+      const before = await surface();
+      await meshPage.keyboard.press('e');
+      await meshPage.waitForFunction(() => getComputedStyle(document.getElementById('legend')).display !== 'none');
+      const map = await surface();
+      if (map !== 'transparent false, opacity 1, depthWrite true, vertexColors true') fail(`with the map, the surface is ${map}`);
+      await meshPage.keyboard.press('e');
+      const after = await surface();
+      if (after !== before) fail(`after a second E the surface is ${after}, before the map ${before}`);
+      noPageErrors();
+      return `the surface with the map: ${map}; without: ${after}`;
+    } finally {
+      await meshPage.close();
+      meshVmas.kill('SIGINT');
+      await exited;
+    }
   });
 
   await check('W saves the skeleton and downloads it', async () => {

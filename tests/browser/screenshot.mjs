@@ -9,8 +9,8 @@
 // Runs vmas edit (VMAS_BINARY, default build/vmas) with the options after --, waits until the
 // sphere count is reached and SECONDS more (default 5), turns the view by dragging the mouse
 // DX,DY pixels from the middle (400,0: half a turn), clicks at the --click position (selects a
-// sphere), moves the mouse to X,Y (a hovered sphere is drawn white, its cluster's points
-// lighter), presses KEYS one by one (e.g. 'e': the error map; 'p': hide the points), takes a
+// sphere), moves the mouse to X,Y (a hovered sphere is drawn stronger, with a thin outline; its
+// cluster's points lighter), presses KEYS one by one (e.g. 'e': the error map; 'p': hide the points), takes a
 // 1280x800 screenshot and stops vmas.
 import { spawn } from 'node:child_process';
 import path from 'node:path';
