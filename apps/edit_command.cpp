@@ -9,7 +9,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -88,11 +87,7 @@ class SaveMeasure {
   SaveMeasure(SurfaceInput input, const EditSession& session, const Frame& frame)
       : input_(std::move(input)), session_(session), frame_(frame), worker_([this] { work(); }) {}
   ~SaveMeasure() {
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    stopped_.notify_all();
+    stop_ = true;
     worker_.join();
   }
   Figure latest() const {
@@ -106,12 +101,11 @@ class SaveMeasure {
     std::optional<Evaluator> evaluator;  // built at the first measurement
     std::vector<double> measured;  // the spheres measured last, flat: x y z r each
     int measured_at = -1;
-    for (std::uint64_t version = 0;;) {
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        if (stopped_.wait_for(lock, std::chrono::milliseconds(200), [&] { return stop_; })) return;
-      }
-      if (session_.snapshot().version == version) continue;
+    // A look at the session every kLookMs, a copy of its state only when it changed.
+    constexpr int kLookMs = 200;
+    for (std::uint64_t version = 0; !stop_;
+         std::this_thread::sleep_for(std::chrono::milliseconds(kLookMs))) {
+      if (session_.wait_for_version(version, 0) == version) continue;
       const EditSnapshot s = session_.snapshot();
       version = s.version;
       const bool still = s.paused || s.finished || s.measured_at_iteration > measured_at;
@@ -136,9 +130,8 @@ class SaveMeasure {
   const SurfaceInput input_;  // cleaned, as vmas eval reads it
   const EditSession& session_;
   const Frame frame_;
-  mutable std::mutex mutex_;
-  std::condition_variable stopped_;
-  bool stop_ = false;
+  mutable std::mutex mutex_;  // guards latest_
+  std::atomic<bool> stop_{false};
   Figure latest_;
   std::thread worker_;  // last: started once the rest is set
 };

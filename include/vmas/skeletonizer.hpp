@@ -183,6 +183,9 @@ class Skeletonizer {
   // One of the refits with final_lambda that end run(); round 0 keeps the partition, later
   // rounds re-partition first.
   void final_refit(int round);
+  // All of them (options().final_rounds), with Phase::FinalRefit after each (`iteration`: the
+  // steps so far, as Progress reports them); false when `progress` returned false.
+  bool final_refits(const ProgressCallback& progress = {}, int iteration = 0);
   // One turn of the run schedule (paper §3.4): a step, then, while spheres are missing, a split
   // round once the error has converged or split_interval steps have gone by since the last
   // split (or restart_schedule).

@@ -357,13 +357,21 @@ RunSummary Skeletonizer::run(const ProgressCallback& progress) {
   // The partition has settled; refits with a small λ let the spheres of extremities reach them
   // (paper Fig. 5: a small λ fits the features) and the projection keeps them medial. Later
   // rounds re-partition first, so that the vertices follow the moved spheres.
-  for (int round = 0; round < options_.final_rounds; ++round) {
-    final_refit(round);
-    if (!report(Progress::Phase::FinalRefit, total_error_, round + 1, options_.final_rounds,
-                double(round + 1) / options_.final_rounds))
-      break;
-  }
+  summary.cancelled = !final_refits(progress, summary.iterations);
   return finish();
+}
+
+bool Skeletonizer::final_refits(const ProgressCallback& progress, int iteration) {
+  const int rounds = options_.final_rounds;
+  for (int round = 0; round < rounds; ++round) {
+    final_refit(round);
+    if (progress &&
+        !progress(Progress{Progress::Phase::FinalRefit, iteration,
+                           static_cast<int>(spheres_.size()), options_.target.count(),
+                           total_error_, round + 1, rounds, double(round + 1) / rounds}))
+      return false;
+  }
+  return true;
 }
 
 double Skeletonizer::growth_fraction(double& first_worst) const {

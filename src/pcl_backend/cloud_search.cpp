@@ -29,8 +29,6 @@ FloatCloudSearch::FloatCloudSearch(const std::vector<Vec3>& points, const Vec3& 
 
 FloatCloudSearch::~FloatCloudSearch() = default;
 
-std::size_t FloatCloudSearch::size() const { return impl_->search.getInputCloud()->size(); }
-
 int FloatCloudSearch::nearest(const Vec3& query, int k, std::vector<int>& indices,
                               std::vector<float>& squared_distances) const {
   return impl_->search.nearestKSearch(float_point(query, impl_->centroid), k, indices,

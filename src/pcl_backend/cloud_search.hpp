@@ -19,8 +19,7 @@ class FloatCloudSearch {
   FloatCloudSearch(const FloatCloudSearch&) = delete;
   FloatCloudSearch& operator=(const FloatCloudSearch&) = delete;
 
-  std::size_t size() const;
-  // The min(k, size()) points nearest to `query` (moved and rounded as the points were), sorted;
+  // The min(k, point count) points nearest to `query` (moved and rounded as the points were), sorted;
   // returns their count.
   int nearest(const Vec3& query, int k, std::vector<int>& indices,
               std::vector<float>& squared_distances) const;

@@ -211,8 +211,7 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
 // the new sphere is frozen).
 void settle_around_move(Skeletonizer& skeletonizer) {
   for (int i = 0; i < kSettleSteps; ++i) skeletonizer.step();
-  for (int round = 0; round < skeletonizer.options().final_rounds; ++round)
-    skeletonizer.final_refit(round);
+  skeletonizer.final_refits();
 }
 
 // Whether a kept move lowered the side it aimed at by less than `min_gain` (a fraction): when
@@ -256,17 +255,9 @@ FinishReport finish_skeleton(Skeletonizer& skeletonizer, Evaluator& evaluator,
                              const ProgressCallback& progress) {
   options.validate();
   FinishReport finish;
-  const int rounds = refitted ? 0 : skeletonizer.options().final_rounds;
-  for (int round = 0; round < rounds; ++round) {
-    skeletonizer.final_refit(round);
-    if (progress &&
-        !progress(Progress{Progress::Phase::FinalRefit, 0,
-                           static_cast<int>(skeletonizer.spheres().size()),
-                           skeletonizer.options().target.count(), skeletonizer.total_error(),
-                           round + 1, rounds, double(round + 1) / rounds})) {
-      finish.cancelled = true;
-      return finish;
-    }
+  if (!refitted && !skeletonizer.final_refits(progress)) {
+    finish.cancelled = true;
+    return finish;
   }
   if (options.max_moves > 0) {
     finish.refine = refine_worst_served(skeletonizer, evaluator, options, progress);
