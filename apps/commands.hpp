@@ -41,10 +41,22 @@ struct JsonPrinted {
 int run_command(const std::string& name, int (*command)(int, const char* const*), int argc,
                 const char* const* argv);
 
-// The run's options (spheres, λ, denoising, normals, ...), shared by skeletonize and edit.
+// Where a run's density comes from: --density (a file of one value per point, or a rule of
+// vmas::density_by_rule) or --density-field (a field of the input); both empty: none.
+struct DensitySource {
+  std::string file_or_rule, field;
+  bool is_rule() const;
+  bool is_file() const { return !file_or_rule.empty() && !is_rule(); }
+};
+// The input at `path` as stored, with the density `source` gives, checked (vmas::check_density):
+// IoError naming the file at fault ("PATH: the density of point 7 is negative (-1)").
+SurfaceInput read_with_density(const std::string& path, const DensitySource& source);
+
+// The run's options (spheres, λ, denoising, normals, density ...), shared by skeletonize and edit.
 struct RunOptionValues {
   Options options;
   std::string denoise = "auto";  // --denoise as typed
+  DensitySource density;
 };
 void add_run_options(boost::program_options::options_description& visible, RunOptionValues& values);
 // After notify(): the flags and --denoise into `options`, then options.validate().

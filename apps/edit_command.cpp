@@ -474,7 +474,7 @@ int edit_command(int argc, const char* const* argv) {
   }
   const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
-  SurfaceInput stored = read_surface_as_stored(input);
+  SurfaceInput stored = read_with_density(input, run_values.density);
   SurfaceInput as_eval_reads = stored;
   clean_surface(as_eval_reads);
   PreparedShape prepared = prepare_shape(std::move(stored), run_values.options);

@@ -107,6 +107,16 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "of the points, several spacings from the rest), which are otherwise removed")
       ("no-mesh-sampling", "keep a coarse mesh's vertices as they are; by default a mesh whose "
        "vertices are too sparse for the method (long, thin faces) has its faces sampled")
+      ("density", po::value(&values.density.file_or_rule),
+       "where the skeleton should be finer: a text file of one value >= 0 per input point, in "
+       "the input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most "
+       "curved points) or distance-to:X,Y,Z,R[,D] (D, default 4, within R of X,Y,Z; 1 "
+       "elsewhere). With --spheres the spheres gather where it is high (4: about 4x the spheres "
+       "per area of 1; 0: as few as the budget allows); with --error the threshold there is "
+       "divided by it")
+      ("density-field", po::value(&values.density.field),
+       "the density from the input itself: a PLY vertex property or PCD field of this name, or "
+       "the last column of an .xyz of 4 or 7 columns")
       ("denoise", po::value(&values.denoise)->default_value("auto"),
        "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
        "points (moving least squares) before the run; off: take the points as they are; or the "
@@ -164,6 +174,35 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   options.prepare.sample_coarse_meshes = vm.count("no-mesh-sampling") == 0;
   options.prepare.orient_normals = vm.count("orient-normals") > 0;
   options.validate();
+  const DensitySource& density = values.density;
+  if (vm.count("density") && density.file_or_rule.empty())
+    throw InvalidOption("density", "needs a file or a rule");
+  if (vm.count("density-field") && density.field.empty())
+    throw InvalidOption("density-field", "needs a field name");
+  if (!density.file_or_rule.empty() && !density.field.empty())
+    throw InvalidOption("density", "cannot go with --density-field: give one");
+  if (density.is_rule()) density_by_rule(SurfaceInput{}, density.file_or_rule);  // its syntax
+}
+
+bool DensitySource::is_rule() const {
+  return file_or_rule == "curvature" || file_or_rule.rfind("distance-to:", 0) == 0;
+}
+
+SurfaceInput read_with_density(const std::string& path, const DensitySource& source) {
+  SurfaceInput surface = read_surface_as_stored(path, source.field);
+  std::string from = path + ": field '" + source.field + "'";
+  if (source.is_rule()) {
+    surface.density = density_by_rule(surface, source.file_or_rule);
+  } else if (source.is_file()) {
+    surface.density = read_density(source.file_or_rule, surface.points.size());
+    from = source.file_or_rule;
+  }
+  try {
+    if (!surface.density.empty()) check_density(surface.density, surface.points.size());
+  } catch (const InvalidInput& e) {
+    throw IoError(from + ": " + e.what());
+  }
+  return surface;
 }
 
 void check_output_option(const std::string& path, void (*check)(const std::string&)) {

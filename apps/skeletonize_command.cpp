@@ -68,6 +68,7 @@ enum class ProgressStyle { None, Terminal, Log };
 
 struct Settings {
   Options options;
+  DensitySource density;
   bool json = false, eval = false, quiet = false;
   std::string input_format;           // of INPUT `-`
   std::string output_format = "ply";  // of `-o -` and --output-dir: ply or ma
@@ -248,10 +249,10 @@ ProgressCallback stderr_progress(const std::string& input, ProgressStyle style) 
 }
 
 // Reads `job.input` (standard input for `-`, in `input_format`); errors name it as given.
-SurfaceInput read_input(const Job& job, const std::string& input_format) {
+SurfaceInput read_input(const Job& job, const Settings& settings) {
   SurfaceInput surface;
-  with_input_file(job.input, input_format,
-                  [&](const std::string& path) { surface = read_surface_as_stored(path); });
+  with_input_file(job.input, settings.input_format,
+                  [&](const std::string& path) { surface = read_with_density(path, settings.density); });
   return surface;
 }
 
@@ -260,7 +261,7 @@ SurfaceInput read_input(const Job& job, const std::string& input_format) {
 json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
   const bool show_progress = progress == ProgressStyle::Terminal;
   const auto start = Clock::now();
-  SurfaceInput surface = read_input(job, settings.input_format);
+  SurfaceInput surface = read_input(job, settings);
   const double read_seconds = seconds_since(start);
   const InputSize size{surface.points.size(), surface.faces.size()};
   // The metric compares with the cleaned input; without it the run may consume the surface.
@@ -393,6 +394,9 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
   if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
   finish_run_options(vm, run_values);
   settings.options = run_values.options;
+  settings.density = run_values.density;
+  if (r.batch && settings.density.is_file())
+    throw po::error("--density FILE takes one INPUT (a rule or --density-field suits several)");
   settings.json = vm.count("json") > 0;
   settings.eval = vm.count("eval") > 0;
   settings.quiet = vm.count("quiet") > 0;
@@ -415,7 +419,9 @@ int run_single(const Request& r) {
   const bool to_stdout = is_standard_stream(r.output);
   if (!to_stdout) check_output_option(r.output, check_medial_mesh_output);
   if (!r.labels_path.empty()) check_output_option(r.labels_path, check_output);
-  check_distinct_files_option({r.inputs[0], r.inputs_list}, {r.output, r.labels_path});
+  check_distinct_files_option({r.inputs[0], r.inputs_list,
+                               r.settings.density.is_file() ? r.settings.density.file_or_rule : ""},
+                              {r.output, r.labels_path});
   const Job job{r.inputs[0], r.output, r.labels_path};
   const ProgressStyle progress = settings.quiet           ? ProgressStyle::None
                                  : isatty(fileno(stderr)) ? ProgressStyle::Terminal

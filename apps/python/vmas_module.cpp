@@ -262,17 +262,54 @@ struct Call {
   SurfaceInput surface;
   Options options;
 };
+// density= of a call: one value per point (a sequence or an array), a rule of
+// vmas.density_by_rule ("curvature", "distance-to:X,Y,Z,R[,D]"), or the path (str or
+// os.PathLike) of a file of one value per line. Checked as the CLI checks it.
+std::vector<double> density_of(const py::handle& value, const SurfaceInput& surface) {
+  const bool text = py::isinstance<py::str>(value);
+  std::vector<double> density;
+  if (text && cli::DensitySource{std::string(py::str(value)), {}}.is_rule()) {
+    density = density_by_rule(surface, py::str(value));
+  } else if (text || py::isinstance(value, py::module_::import("os").attr("PathLike"))) {
+    density = read_density(path_of(value), surface.points.size());
+  } else {
+    const py::array array = py::array::ensure(value);
+    if (!array || array.ndim() != 1 || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' &&
+                                        array.dtype().kind() != 'u'))
+      throw py::type_error("density must be one number per point (an (N,) array), a rule "
+                           "('curvature', 'distance-to:X,Y,Z,R[,D]') or a file's path (got " +
+                           type_name(value) + ")");
+    const auto numbers = py::array_t<double, py::array::forcecast>::ensure(array);
+    const auto view = numbers.unchecked<1>();
+    density.assign(view.data(0), view.data(0) + view.shape(0));
+  }
+  check_density(density, surface.points.size());
+  return density;
+}
+
 Call call_of(const std::string& caller, const py::object& points, const py::object& normals,
              const py::object& faces, const py::object& spheres, const py::object& error,
              const py::object& threads, const py::kwargs& options) {
   py::dict keywords;
-  for (const auto& [key, value] : options) keywords[key] = value;
+  py::object density = py::none();
+  for (const auto& [key, value] : options) {
+    const std::string name = py::str(key);
+    if (name == "density_field")
+      throw py::type_error(caller + "() takes no density_field: read it with "
+                                    "vmas.read(path, density_field=NAME)");
+    if (name == "density")
+      density = py::reinterpret_borrow<py::object>(value);
+    else
+      keywords[key] = value;
+  }
   keywords["spheres"] = spheres;
   keywords["error"] = error;
   keywords["threads"] = threads;
   const bool given = py::isinstance<SurfaceInput>(points) && normals.is_none() && faces.is_none();
-  return {given ? points.cast<SurfaceInput>() : surface_of(points, normals, faces),
-          options_of(caller, keywords)};
+  Call call{given ? points.cast<SurfaceInput>() : surface_of(points, normals, faces),
+            options_of(caller, keywords)};
+  if (!density.is_none()) call.surface.density = density_of(density, call.surface);
+  return call;
 }
 
 // The constructor of a class that prepares its shape as vmas.skeletonize does: the same
@@ -591,6 +628,13 @@ void def_shapes(py::module_& m) {
             return s.faces.empty() ? py::object(py::none()) : py::object(index_matrix(s.faces));
           },
           "(F, 3) int32, or None for a cloud")
+      .def_property_readonly(
+          "density",
+          [](const SurfaceInput& s) -> py::object {
+            if (s.density.empty()) return py::none();
+            return py::array_t<double>(static_cast<py::ssize_t>(s.density.size()), s.density.data());
+          },
+          "(N,) float64, or None (uniform)")
       .def("__repr__", [](const SurfaceInput& s) {
         return "<vmas.Surface: " + std::to_string(s.points.size()) + " points, " +
                std::to_string(s.faces.size()) + " faces" + (s.has_normals() ? ", normals>" : ">");
@@ -939,6 +983,9 @@ points:   (N, 3) array of float32/float64 (any memory order; NaN rows are droppe
           vmas.Surface from vmas.read
 normals:  (N, 3) array, or None (estimated and oriented outward)
 faces:    (F, 3) integer array for a triangle mesh, or None for a cloud
+density:  where the skeleton should be finer: one value >= 0 per point ((N,) array), a rule
+          ("curvature", "distance-to:X,Y,Z,R[,D]") or a file of one value per line; None
+          (default) or a vmas.Surface's own density (vmas.read(path, density_field=NAME))
 spheres:  spheres to produce (default 100 when error is None), or
 error:    split until every cluster's RMS error is below this fraction of the diagonal
 threads:  OpenMP threads (0: all cores)
@@ -960,15 +1007,17 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 void def_io_and_evaluate(py::module_& m) {
   m.def(
       "read",
-      [](const py::object& path) {
+      [](const py::object& path, const py::object& density_field) {
         const std::string file = path_of(path);
+        const std::string field = density_field.is_none() ? "" : std::string(py::str(density_field));
         py::gil_scoped_release released;
-        return read_surface_as_stored(file);
+        return cli::read_with_density(file, cli::DensitySource{{}, field});
       },
-      py::arg("path"),
+      py::arg("path"), py::kw_only(), py::arg("density_field") = py::none(),
       "Reads a shape (.off .ply .obj .xyz .txt .pcd) as `vmas skeletonize` does: every point "
-      "as stored, so that Result.labels index the file's points. Raises vmas.IoError (an "
-      "OSError) naming the file.");
+      "as stored, so that Result.labels index the file's points; with density_field, the "
+      "points' density from that PLY property or PCD field (or an .xyz's last of 4 or 7 "
+      "columns), as Surface.density. Raises vmas.IoError (an OSError) naming the file.");
 
   m.def(
       "write",
@@ -981,6 +1030,23 @@ void def_io_and_evaluate(py::module_& m) {
       py::arg("path"), py::arg("medial"),
       "Writes a medial mesh (a Result, a MedialMesh or anything with centers, radii, edges, "
       "faces) as .ply or .ma, atomically, as the CLI writes it.");
+
+  m.def(
+      "density_by_rule",
+      [](const py::object& points, const std::string& rule) {
+        const SurfaceInput surface = py::isinstance<SurfaceInput>(points)
+                                         ? points.cast<SurfaceInput>()
+                                         : surface_of(points, py::none(), py::none());
+        std::vector<double> density;
+        {
+          py::gil_scoped_release released;
+          density = density_by_rule(surface, rule);
+        }
+        return py::array_t<double>(static_cast<py::ssize_t>(density.size()), density.data());
+      },
+      py::arg("points"), py::arg("rule"),
+      "The density a rule gives the points ((N, 3) array or vmas.Surface): 'curvature' or "
+      "'distance-to:X,Y,Z,R[,D]', as `vmas skeletonize --density RULE` makes it.");
 
   m.def(
       "read_medial",

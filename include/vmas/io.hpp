@@ -29,7 +29,17 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr
 // The same without cleaning: every point as stored (NaN ones included, so that indices match
 // the file), for callers that clean later, such as vmas::skeletonize. Throws IoError for the
 // reasons above except those of cleaning.
-SurfaceInput read_surface_as_stored(const std::string& path);
+// With `density_field`, the points' density (SurfaceInput::density) from that PLY vertex property
+// or PCD field, or from the last of 4 or 7 columns of an .xyz/.txt (IoError when it has none, or
+// for .off and .obj, which hold none).
+SurfaceInput read_surface_as_stored(const std::string& path,
+                                    const std::string& density_field = {});
+
+// A density (SurfaceInput::density) for an input of `points` points from a text file of one value
+// per line, in the input's order ('#' comments and blank lines skipped). Throws IoError naming the
+// file when it cannot be read, a line is not one number, or the count differs; the values
+// themselves are check_density's (vmas/prepare.hpp).
+std::vector<double> read_density(const std::string& path, std::size_t points);
 
 // Gives every point whose normal is missing (NaN or zero: a file that has normals for some
 // points only) the normal of the plane through its k nearest neighbours (NormalOptions::k in

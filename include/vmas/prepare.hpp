@@ -3,6 +3,7 @@
 // and smoothed away, normals estimated and oriented. What a front end would otherwise have to
 // repeat; the CLI is one caller.
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "vmas/projection.hpp"
@@ -141,6 +142,18 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
 // surface, and one with holes, is left as it is (0).
 std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
                                     const Shape& shape);
+
+// Density (SurfaceInput::density; docs/design.md, "Density"). Throws InvalidInput naming the
+// first problem when `density` is not one finite value >= 0 per point of `points`, or all 0.
+void check_density(const std::vector<double>& density, std::size_t points);
+
+// A density for the points of `surface` (as stored, in its coordinates) by a rule:
+//   "curvature": 1 where the surface is flattest, rising with the surface variation of a point's
+//     16 nearest neighbours (the least of their spread's eigenvalues over the sum) to 4 at the
+//     5 % most curved points: sharp edges and small features of a part get finer;
+//   "distance-to:X,Y,Z,R[,D]": D (4 unless given) within R of the point (X, Y, Z), 1 elsewhere.
+// Points with a NaN coordinate get 1. Throws InvalidOption ("density") for another rule.
+std::vector<double> density_by_rule(const SurfaceInput& surface, const std::string& rule);
 
 // Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
 // angle about the frame's diagonal: the same points, in coordinates that round differently (and

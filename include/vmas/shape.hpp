@@ -3,6 +3,7 @@
 // support area A(v), the diffused quadric Q_v of each vertex, and a symmetric neighbour graph
 // (mesh edges, or the k-NN graph of a cloud, its pieces joined by their shortest bridges among
 // the 16 nearest neighbours) used for cluster adjacency.
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -34,6 +35,8 @@ struct Shape {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;           // unit, outward
   std::vector<double> area;            // A(v) (eq. 4 and 6)
+  std::vector<double> density;         // of each vertex (SurfaceInput::density; empty: uniform)
+  double density_max = 0.0;            // the largest of them
   std::vector<Sqem> quadric;           // Q_v (eq. 5 and 7)
   std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
   std::vector<int> neighbours;  //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
@@ -43,6 +46,19 @@ struct Shape {
   double total_area = 0.0;
 
   int size() const { return static_cast<int>(points.size()); }
+  // The weight of an error at density d where spheres are placed: d⁴, so that a cluster's RMS
+  // error counts d² times (docs/design.md, "Density").
+  static double density_weight(double d) { return (d * d) * (d * d); }
+  // ... of vertex v's error, relative to the densest vertex's (1 without a density, and for a
+  // uniform one: such a field changes nothing to the bit): what the fits, the split seeds and
+  // the refinement's removals weigh by.
+  double error_weight(int v) const {
+    return density.empty() ? 1.0 : density_weight(density[v] / density_max);
+  }
+  // Whether the density differs between vertices (a uniform one changes no choice).
+  bool density_varies() const {
+    return std::any_of(density.begin(), density.end(), [&](double d) { return d != density[0]; });
+  }
 };
 
 // Builds the shape from a cleaned input. Meshes take their normals and areas from the faces
@@ -53,7 +69,7 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
 // The shape seen from afar, for the first rounds of a run: about `budget` vertices, one per cell
 // of a voxel grid and dominant normal direction (so that the two sides of a thin part stay
 // apart; src/core/subsample.hpp). A coarse vertex is its cell's point (position, normal) and carries
-// the cell's total area and summed quadric (quadrics add up exactly); two coarse vertices are
+// the cell's total area, summed quadric (quadrics add up exactly) and area-weighted mean density; two coarse vertices are
 // neighbours when some of their members are. The shape itself when it has no more vertices.
 Shape coarsen_shape(const Shape& shape, std::size_t budget);
 

@@ -25,7 +25,8 @@ constexpr int kDefaultSpheres = 100;
 struct Target {
   int spheres = 0;     // spheres to produce (0: none given)
   double error = 0.0;  // instead of a count: split until every cluster's RMS error √E(C) (eq. 12)
-                       // is below this fraction of the diagonal (e.g. 0.005), at most
+                       // is below this fraction of the diagonal (e.g. 0.005; divided by the
+                       // cluster's mean density where one is given), at most
                        // max_spheres spheres; scan noise sets a floor (0: none given)
   // The count aimed at: `spheres`, 0 when the threshold decides, kDefaultSpheres when neither
   // is given.
@@ -224,6 +225,8 @@ class Skeletonizer {
   int id_of(std::uint64_t key) const;  // the sphere with that key, or -1
   const std::vector<int>& labels() const { return labels_; }  // cluster of every shape vertex
   const std::vector<double>& cluster_errors() const { return cluster_errors_; }  // E(C), eq. 12
+  // The area-weighted mean density of each cluster (Shape::density; empty without one).
+  const std::vector<double>& cluster_densities() const { return cluster_densities_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
   const MedialProjector& projector() const { return projector_; }
@@ -245,9 +248,12 @@ class Skeletonizer {
   // moved. `serving_balls_only`: a donor whose worst vertex its ball would serve worse than the
   // vertex's own sphere is passed over.
   bool reseed_tiny_clusters(bool serving_balls_only = false);
-  int worst_vertex(int cluster) const;  // the member with the largest E_v: the split seed
-  bool misses_error_threshold() const;  // some free cluster's E(C) is above the threshold
-  double worst_free_cluster_error() const;  // the largest E(C) of a free cluster (0: none)
+  int worst_vertex(int cluster) const;  // the member with the largest weighted E_v: the split seed
+  // E(C) times the cluster's area-weighted mean density squared (E(C) without a density):
+  // what splitting ranks and the error threshold judges (docs/design.md, "Density").
+  double split_error(int cluster) const;
+  bool misses_error_threshold() const;  // some free cluster's split_error is above the threshold
+  double worst_free_cluster_error() const;  // the largest split_error of a free cluster (0: none)
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void check_target_fits(const Target& target) const;  // InvalidOption: more spheres than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
@@ -267,7 +273,8 @@ class Skeletonizer {
   bool energies_current_ = false;  // vertex_energies_ hold E_v of every vertex's sphere as it is
   std::vector<std::vector<int>> members_;
   std::vector<double> cluster_errors_;
-  std::vector<double> worst_errors_;  // max E_v / A(v) per cluster (split ranking)
+  std::vector<double> worst_errors_;  // max E_v / A(v) × error_weight per cluster (split ranking)
+  std::vector<double> cluster_densities_;  // area-weighted mean density per cluster (none: empty)
   double total_error_ = 0.0;
   double previous_error_ = 0.0;  // the schedule's: the total error one turn ago
   int since_split_ = 0;          // ... and the steps since the last split or restart

@@ -37,11 +37,15 @@ inline double median(std::vector<double> values) {
 }
 
 // The input shape as read from disk: a triangle mesh when `faces` is non-empty, otherwise a
-// point cloud. `normals` is empty (none given) or has one unit normal per point.
+// point cloud. `normals` is empty (none given) or has one unit normal per point. `density` is
+// empty (uniform) or has one value ≥ 0 per point: where the skeleton should be finer (4: about
+// four times the spheres per area of 1; 0: as coarse as the budget allows; docs/design.md,
+// "Density").
 struct SurfaceInput {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;
   std::vector<std::array<int, 3>> faces;
+  std::vector<double> density;
 
   bool is_mesh() const { return !faces.empty(); }
   bool has_normals() const { return !normals.empty(); }

@@ -158,6 +158,10 @@ CleanReport clean_surface(SurfaceInput& surface) {
   if (with_normals && surface.normals.size() != count)
     throw InvalidInput(std::to_string(surface.normals.size()) + " normals for " +
                        std::to_string(count) + " points");
+  const bool with_density = !surface.density.empty();
+  if (with_density && surface.density.size() != count)
+    throw InvalidInput(std::to_string(surface.density.size()) + " density values for " +
+                       std::to_string(count) + " points");
   if (count > static_cast<std::size_t>(std::numeric_limits<Index>::max()))
     throw InvalidInput(std::to_string(count) + " points: at most " +
                        std::to_string(std::numeric_limits<Index>::max()) + " are supported");
@@ -189,10 +193,12 @@ CleanReport clean_surface(SurfaceInput& surface) {
     if (with_normals)
       surface.normals[kept] =
           has_normal(surface.normals[i]) ? unit(surface.normals[i]) : Vec3::Constant(kNoNormal);
+    if (with_density) surface.density[kept] = surface.density[i];
     ++kept;
   }
   surface.points.resize(kept);
   surface.normals.resize(with_normals ? kept : 0);
+  surface.density.resize(with_density ? kept : 0);
   // Not one normal given: a plain cloud.
   if (with_normals && report.missing_normals == usable_count) {
     surface.normals.clear();

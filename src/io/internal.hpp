@@ -303,9 +303,13 @@ void check_ply_start(const std::string& path, std::string_view start);
 // One reader per format (io_FORMAT.cpp); each fails with "PATH: problem".
 SurfaceInput parse_off(const std::string& path, std::string_view text);
 SurfaceInput parse_obj(const std::string& path, std::string_view text);
-SurfaceInput parse_xyz(const std::string& path, std::string_view text);
-SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes);
-SurfaceInput read_pcd(const std::string& path);
+// `density_field` (empty: none): the per-point value read into SurfaceInput::density (a PLY
+// vertex property, a PCD field, an .xyz's last column of 4 or 7).
+SurfaceInput parse_xyz(const std::string& path, std::string_view text,
+                       const std::string& density_field = {});
+SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes,
+                               const std::string& density_field = {});
+SurfaceInput read_pcd(const std::string& path, const std::string& density_field = {});
 MedialMesh parse_ply_medial(const std::string& path, std::string_view bytes);
 MedialMesh parse_ma(const std::string& path, std::string_view text);
 

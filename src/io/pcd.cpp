@@ -156,13 +156,15 @@ void lay_out(const std::string& path, PcdHeader& header) {
   }
 }
 
-// The x, y, z fields and, when all three are there, normal_x, normal_y, normal_z.
+// The x, y, z fields, normal_x, normal_y, normal_z when all three are there, and the density's
+// field when one is asked for (null: not read).
 struct PcdColumns {
-  const PcdField* fields[6] = {};
-  int wanted = 3;  // 6 with normals
+  static constexpr int kCount = 7;
+  const PcdField* fields[kCount] = {};
 };
 
-PcdColumns pcd_columns(const std::string& path, const std::vector<PcdField>& fields) {
+PcdColumns pcd_columns(const std::string& path, const std::vector<PcdField>& fields,
+                       const std::string& density_field) {
   PcdColumns columns;
   const auto find = [&](std::string_view name) -> const PcdField* {
     for (const PcdField& field : fields)
@@ -173,27 +175,39 @@ PcdColumns pcd_columns(const std::string& path, const std::vector<PcdField>& fie
   for (int c = 0; c < 6; ++c) columns.fields[c] = find(kNames[c]);
   if (!columns.fields[0] || !columns.fields[1] || !columns.fields[2])
     fail(path, "PCD file has no x, y, z fields");
-  if (columns.fields[3] && columns.fields[4] && columns.fields[5]) columns.wanted = 6;
+  if (!columns.fields[3] || !columns.fields[4] || !columns.fields[5])
+    columns.fields[3] = columns.fields[4] = columns.fields[5] = nullptr;
+  if (!density_field.empty()) {
+    columns.fields[6] = find(density_field);
+    if (!columns.fields[6]) {
+      std::string names;
+      for (const PcdField& field : fields) names += (names.empty() ? "" : " ") + std::string(field.name);
+      fail(path, "no field " + quote(density_field) + " for the density (fields: " + names + ")");
+    }
+  }
   return columns;
 }
 
-void add_point(SurfaceInput& surface, const PcdColumns& columns, const double (&values)[6]) {
+void add_point(SurfaceInput& surface, const PcdColumns& columns,
+               const double (&values)[PcdColumns::kCount]) {
   surface.points.emplace_back(values[0], values[1], values[2]);
-  if (columns.wanted == 6) surface.normals.emplace_back(values[3], values[4], values[5]);
+  if (columns.fields[3]) surface.normals.emplace_back(values[3], values[4], values[5]);
+  if (columns.fields[6]) surface.density.push_back(values[6]);
 }
 
 SurfaceInput read_pcd_ascii(const std::string& path, LineTokenizer rows, const PcdHeader& header,
                             const PcdColumns& columns) {
   SurfaceInput surface;
   std::vector<std::string_view> tokens;
-  double values[6] = {};
+  double values[PcdColumns::kCount] = {};
   while (rows.next(tokens)) {
     if (surface.points.size() == header.points)
       rows.fail("more points than POINTS " + std::to_string(header.points));
     if (tokens.size() != header.values_per_point)
       rows.fail("expected " + std::to_string(header.values_per_point) + " values, found " +
                 std::to_string(tokens.size()));
-    for (int c = 0; c < columns.wanted; ++c) {
+    for (int c = 0; c < PcdColumns::kCount; ++c) {
+      if (!columns.fields[c]) continue;
       const PcdField& field = *columns.fields[c];
       values[c] = rows.number(tokens[field.value]);
       // As if stored in the field's type, like the binary formats (and PCL)
@@ -214,9 +228,10 @@ SurfaceInput read_pcd_values(const char* start, const PcdHeader& header,
   // PCL writes binary data in the host's order, which is little-endian everywhere it runs.
   const bool swap = !host_is_little_endian();
   SurfaceInput surface;
-  double values[6] = {};
+  double values[PcdColumns::kCount] = {};
   for (std::size_t i = 0; i < header.points; ++i) {
-    for (int c = 0; c < columns.wanted; ++c) {
+    for (int c = 0; c < PcdColumns::kCount; ++c) {
+      if (!columns.fields[c]) continue;
       const PcdField& field = *columns.fields[c];
       const char* cursor = start + at(field, i);
       read_scalar(cursor, cursor + field.size, field.scalar, swap, values[c]);
@@ -280,12 +295,12 @@ SurfaceInput read_pcd_compressed(const std::string& path, std::string_view body,
 
 }  // namespace
 
-SurfaceInput read_pcd(const std::string& path) {
+SurfaceInput read_pcd(const std::string& path, const std::string& density_field) {
   const std::string bytes = read_file(path, ".pcd");
   LineTokenizer lines(path, bytes);
   PcdHeader header = read_pcd_header(path, lines);
   lay_out(path, header);
-  const PcdColumns columns = pcd_columns(path, header.fields);
+  const PcdColumns columns = pcd_columns(path, header.fields, density_field);
   const std::string_view body = std::string_view(bytes).substr(lines.position());
   if (header.data == "ascii")
     return read_pcd_ascii(path, LineTokenizer(path, body, lines.line()), header, columns);

@@ -267,7 +267,8 @@ std::vector<Face> ply_faces(const std::string& path, const PlyFile& ply, std::si
 
 }  // namespace
 
-SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) {
+SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes,
+                               const std::string& density_field) {
   const PlyFile ply = read_ply(path, bytes, {"vertex", "face"});
   const PlyElement* vertex = ply.find("vertex");
   if (!vertex) fail(path, "no 'vertex' element");
@@ -285,6 +286,17 @@ SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes) 
     surface.normals.reserve(vertex->count);
     for (std::size_t i = 0; i < vertex->count; ++i)
       surface.normals.emplace_back(nx[i], ny[i], nz[i]);
+  }
+  if (!density_field.empty()) {
+    const PlyProperty* density = vertex->find({density_field});
+    if (!density || density->is_list) {
+      std::string names;
+      for (const PlyProperty& property : vertex->properties)
+        if (!property.is_list) names += (names.empty() ? "" : " ") + property.name;
+      fail(path, "no vertex property " + quote(density_field) + " for the density (properties: " +
+                     names + ")");
+    }
+    surface.density = density->values;
   }
   surface.faces = ply_faces(path, ply, vertex->count);
   return surface;

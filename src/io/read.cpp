@@ -80,22 +80,26 @@ auto naming_the_file_on_bad_alloc(const std::string& path, Read read) {
   }
 }
 
-SurfaceInput read_stored(const std::string& path) {
+SurfaceInput read_stored(const std::string& path, const std::string& density_field) {
   const std::string extension = lower_extension(path);
+  if (!density_field.empty() && (extension == ".off" || extension == ".obj"))
+    fail(path, "an " + extension.substr(1) +
+                   " file holds no per-point values besides coordinates and normals: give the "
+                   "density in a file of its own");
   SurfaceInput surface;
   if (extension == ".pcd") {
-    surface = io_internal::read_pcd(path);
+    surface = io_internal::read_pcd(path, density_field);
   } else if (extension == ".off" || extension == ".ply" || extension == ".obj" ||
              extension == ".xyz" || extension == ".txt") {
     const std::string bytes = read_file(path, extension);
     if (extension == ".off")
       surface = io_internal::parse_off(path, bytes);
     else if (extension == ".ply")
-      surface = io_internal::parse_ply_surface(path, bytes);
+      surface = io_internal::parse_ply_surface(path, bytes, density_field);
     else if (extension == ".obj")
       surface = io_internal::parse_obj(path, bytes);
     else
-      surface = io_internal::parse_xyz(path, bytes);
+      surface = io_internal::parse_xyz(path, bytes, density_field);
   } else {
     fail(path, "unknown file extension " + quote(extension) +
                    " (expected .off, .ply, .obj, .xyz, .txt or .pcd)");
@@ -106,10 +110,31 @@ SurfaceInput read_stored(const std::string& path) {
 
 }  // namespace
 
-SurfaceInput read_surface_as_stored(const std::string& path) {
+SurfaceInput read_surface_as_stored(const std::string& path, const std::string& density_field) {
   // "No such file" beats "unknown extension" for a mistyped path.
   io_internal::check_readable(path);
-  return naming_the_file_on_bad_alloc(path, [&] { return read_stored(path); });
+  return naming_the_file_on_bad_alloc(path, [&] { return read_stored(path, density_field); });
+}
+
+std::vector<double> read_density(const std::string& path, std::size_t points) {
+  io_internal::check_readable(path);
+  return naming_the_file_on_bad_alloc(path, [&] {
+    const std::string bytes = read_file(path, "");  // text, whatever its extension
+    io_internal::LineTokenizer lines(path, bytes);
+    std::vector<std::string_view> tokens;
+    std::vector<double> density;
+    while (lines.next(tokens)) {
+      if (tokens.size() != 1)
+        lines.fail("expected one density value per line, found " + std::to_string(tokens.size()));
+      if (density.size() == points)
+        lines.fail("more values than the input's " + std::to_string(points) + " points");
+      density.push_back(lines.number(tokens[0]));
+    }
+    if (density.size() != points)
+      fail(path, std::to_string(density.size()) + " density values for the input's " +
+                     std::to_string(points) + " points");
+    return density;
+  });
 }
 
 SurfaceInput read_surface(const std::string& path, CleanReport* report) {

@@ -1,5 +1,6 @@
-// XYZ reader (.xyz/.txt): x y z, x y z nx ny nz, or x y z r g b per line; a first line holding
-// just the point count is skipped, and decimal commas are read as decimal points.
+// XYZ reader (.xyz/.txt): x y z, x y z nx ny nz, or x y z r g b per line (with a density field,
+// a density after them: 4 or 7 columns); a first line holding just the point count is skipped,
+// and decimal commas are read as decimal points.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -77,7 +78,8 @@ bool are_colours(const std::vector<Vec3>& extra) {
 
 }  // namespace
 
-SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
+SurfaceInput parse_xyz(const std::string& path, std::string_view text,
+                       const std::string& density_field) {
   std::string converted;
   if (uses_decimal_commas(text)) {
     converted.assign(text);
@@ -87,6 +89,8 @@ SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
   LineTokenizer lines(path, text);
   std::vector<std::string_view> tokens;
   std::vector<Vec3> points, extra;
+  std::vector<double> density;
+  const std::size_t last = density_field.empty() ? 0 : 1;  // the density's column
   bool first = true;
   std::size_t announced = 0, count_line = 0;
   while (lines.next(tokens)) {
@@ -97,11 +101,17 @@ SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
       continue;
     }
     first = false;
-    if (tokens.size() != 3 && tokens.size() != 6)
-      lines.fail("expected 3 or 6 columns (x y z [nx ny nz | r g b]), found " +
-                 std::to_string(tokens.size()));
+    if (tokens.size() != 3 + last && tokens.size() != 6 + last)
+      lines.fail(last == 0 ? "expected 3 or 6 columns (x y z [nx ny nz | r g b]), found " +
+                                 std::to_string(tokens.size()) +
+                                 (tokens.size() == 4 || tokens.size() == 7
+                                      ? " (a last column of 4 or 7 is read as a density field)"
+                                      : "")
+                           : "expected 4 or 7 columns (x y z [nx ny nz | r g b] density), found " +
+                                 std::to_string(tokens.size()));
     points.push_back(lines.vec3(tokens, 0));
-    if (tokens.size() == 6) {
+    if (last) density.push_back(lines.number(tokens.back()));
+    if (tokens.size() == 6 + last) {
       extra.resize(points.size(), Vec3::Constant(kNaN));
       extra.back() = lines.vec3(tokens, 3);
     } else if (!extra.empty()) {
@@ -118,6 +128,7 @@ SurfaceInput parse_xyz(const std::string& path, std::string_view text) {
     surface.normals = std::move(extra);
   }
   surface.points = std::move(points);
+  surface.density = std::move(density);
   return surface;
 }
 

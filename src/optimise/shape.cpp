@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/cloud_graph.hpp"
+#include "core/density_mean.hpp"
 #include "core/disjoint_sets.hpp"
 #include "core/subsample.hpp"
 #include "vmas/error.hpp"
@@ -207,6 +208,13 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   if (input.points.empty()) throw InvalidInput("the shape has no points");
   Shape shape;
   shape.points = input.points;
+  if (!input.density.empty() && input.density.size() != input.points.size())
+    throw InvalidInput(std::to_string(input.density.size()) + " density values for " +
+                       std::to_string(input.points.size()) + " points");
+  shape.density = input.density;
+  for (double d : shape.density) shape.density_max = std::max(shape.density_max, d);
+  if (!shape.density.empty() && !(shape.density_max > 0.0))
+    throw InvalidInput("every density value is 0: some point must have a positive density");
   shape.is_mesh = input.is_mesh();
   shape.diagonal = diagonal_of(bounding_box(input.points));
   if (!(shape.diagonal > 0.0)) throw InvalidInput("all points coincide");
@@ -238,16 +246,20 @@ Shape coarsen_shape(const Shape& shape, std::size_t budget) {
   }
   coarse.area.assign(count, 0.0);
   coarse.quadric.assign(count, Sqem());
+  std::vector<internal::DensityMean> density(shape.density.empty() ? 0 : count);
   std::vector<std::pair<int, int>> pairs;
   for (int v = 0; v < shape.size(); ++v) {
     const int cell = cells.representative[v];
     coarse.area[cell] += shape.area[v];
+    if (!density.empty()) density[cell].add(shape.density[v], shape.area[v]);
     coarse.quadric[cell] += shape.quadric[v];
     for (int k = shape.neighbour_offsets[v]; k < shape.neighbour_offsets[v + 1]; ++k) {
       const int other = cells.representative[shape.neighbours[k]];
       if (other > cell) pairs.emplace_back(cell, other);  // the graph is symmetric
     }
   }
+  for (const internal::DensityMean& mean : density) coarse.density.push_back(mean.value());
+  coarse.density_max = shape.density_max;
   set_neighbour_graph(coarse, pairs);
   coarse.blocks = build_blocks(coarse.points);
   coarse.is_mesh = shape.is_mesh;

@@ -38,15 +38,17 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
   // Local accumulators: through the pointers every term would be a load and a store.
   Eigen::Matrix4d h = cluster_quadric.A;
   Vec4 g = cluster_quadric.b;
+  const bool weighted = !shape.density.empty();
   for (int v : members) {
     const Vec3 offset = shape.points[v] - center;
     const double length = offset.norm();
-    euclidean += shape.area[v] * (length - s.w()) * (length - s.w());
+    const double area = weighted ? shape.area[v] * shape.error_weight(v) : shape.area[v];
+    euclidean += area * (length - s.w()) * (length - s.w());
     // A sample at the centre gives no direction.
     if (!kNormalEquations || !(length > 0.0)) continue;
     const Vec3 u = offset / length;
     const Vec4 direction(u.x(), u.y(), u.z(), 1.0);
-    const double weight = 2.0 * lambda * shape.area[v];
+    const double weight = 2.0 * lambda * area;
     h.noalias() += weight * direction * direction.transpose();
     g.noalias() += (weight * u.dot(shape.points[v])) * direction;
   }
@@ -68,8 +70,18 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
 Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sphere& initial,
                   double lambda, const UpdateOptions& options) {
   if (members.empty()) return initial;
+  // With a density, each vertex's energy counts by its weight (docs/design.md, "Density").
   Sqem cluster_quadric;
-  for (int v : members) cluster_quadric += shape.quadric[v];
+  if (shape.density.empty()) {
+    for (int v : members) cluster_quadric += shape.quadric[v];
+  } else {
+    for (int v : members) {
+      const double weight = shape.error_weight(v);
+      cluster_quadric.A += weight * shape.quadric[v].A;
+      cluster_quadric.b += weight * shape.quadric[v].b;
+      cluster_quadric.c += weight * shape.quadric[v].c;
+    }
+  }
 
   Vec4 current = to_vec4(initial);
   current.w() = std::max(current.w(), 0.0);

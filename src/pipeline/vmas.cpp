@@ -220,6 +220,7 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 
   Result& result = prepared.result;
   SurfaceInput surface = std::move(input);
+  if (!surface.density.empty()) check_density(surface.density, surface.points.size());
   result.clean = clean_surface(surface);
   if (surface.points.empty()) throw InvalidInput("no usable points");
   result.seconds.clean = seconds_since(start);

@@ -109,6 +109,7 @@ bool split_long_edges(SurfaceInput& mesh, double limit, VertexGrid& grid) {
     if (grid.occupied_near(mesh, middle, normal)) return -1;
     entry->second = static_cast<int>(mesh.points.size());
     mesh.points.push_back(middle);
+    if (!mesh.density.empty()) mesh.density.push_back(0.5 * (mesh.density[a] + mesh.density[b]));
     grid.add(middle, normal);
     any = true;
     return entry->second;

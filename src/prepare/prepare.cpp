@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/cloud_graph.hpp"
+#include "core/density_mean.hpp"
 #include "prepare/fringe.hpp"
 #include "prepare/noise.hpp"
 #include "prepare/outliers.hpp"
@@ -143,6 +144,14 @@ void keep_cells(const Subsample& thin, SurfaceInput& surface, PrepareReport& rep
   keep_only(report.kept, thin.kept);
   keep_only(surface.points, thin.kept);
   keep_only(surface.normals, thin.kept);
+  // A cell's point stands for the points thinned away: it carries their mean density.
+  if (!surface.density.empty()) {
+    std::vector<internal::DensityMean> cells(thin.kept.size());
+    for (std::size_t p = 0; p < surface.density.size(); ++p)
+      cells[thin.representative[p]].add(surface.density[p], 1.0);
+    surface.density.clear();
+    for (const internal::DensityMean& cell : cells) surface.density.push_back(cell.value());
+  }
 }
 
 // Every later stage costs at least linear time in the points; a big cloud's detail below a few
@@ -166,6 +175,7 @@ void drop_all_but(const std::vector<int>& kept, SurfaceInput& surface, PrepareRe
   keep_only(report.kept, kept);
   keep_only(surface.points, kept);
   keep_only(surface.normals, kept);
+  keep_only(surface.density, kept);
 }
 
 // Stray points far from the surface (scanner artefacts, registration leftovers) would each stop

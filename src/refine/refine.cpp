@@ -36,7 +36,8 @@ constexpr double kRemovalMargin = 0.75;
 constexpr int kSettleSteps = 3;
 
 // Unfrozen spheres other than `keep`, cheapest to remove first: the energy their vertices would
-// gain by joining the best neighbouring sphere instead.
+// gain by joining the best neighbouring sphere instead (weighted by their density: a dense region
+// keeps its spheres).
 std::vector<int> removal_order(const Skeletonizer& skeletonizer,
                                const std::vector<std::vector<int>>& adjacent, int keep) {
   const Shape& shape = skeletonizer.shape();
@@ -50,7 +51,7 @@ std::vector<int> removal_order(const Skeletonizer& skeletonizer,
     double best = std::numeric_limits<double>::infinity();
     for (int other : adjacent[own])
       best = std::min(best, vertex_energy(shape, v, spheres[other], lambda));
-    cost[own] += best - vertex_energy(shape, v, spheres[own], lambda);
+    cost[own] += (best - vertex_energy(shape, v, spheres[own], lambda)) * shape.error_weight(v);
   }
   std::vector<int> order;
   for (int c = 0; c < count; ++c)
@@ -198,6 +199,12 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
                                           static_cast<int>(skeletonizer.spheres().size()));
   for (int c : removal_order(skeletonizer, adjacent, added))
     if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
+  // A sphere never goes to where the density is lower than where it was.
+  const std::vector<double>& density = skeletonizer.cluster_densities();
+  if (!density.empty())
+    order.erase(std::remove_if(order.begin(), order.end(),
+                               [&](int c) { return density[c] > density[added]; }),
+                order.end());
   for (std::size_t k = 0; k < order.size() && k < kRemovalCandidates; ++k) {
     if (!leaves_members_covered(skeletonizer, adjacent, order[k], kRemovalMargin * now.hausdorff))
       continue;
