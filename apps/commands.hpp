@@ -48,6 +48,9 @@ struct DensitySource {
   bool is_rule() const;
   bool is_file() const { return !file_or_rule.empty() && !is_rule(); }
 };
+// The density `file_or_rule` gives the points of `surface` (a rule of vmas::density_by_rule, or
+// a file of one value per line), unchecked.
+std::vector<double> density_of(const std::string& file_or_rule, const SurfaceInput& surface);
 // The input at `path` as stored, with the density `source` gives, checked (vmas::check_density):
 // IoError naming the file at fault ("PATH: the density of point 7 is negative (-1)").
 SurfaceInput read_with_density(const std::string& path, const DensitySource& source);

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <numeric>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
@@ -235,6 +236,7 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"measured_at_iteration", s.measured_at_iteration},
                   {"save_error_percent", save_measure.percent},
                   {"save_error_at_iteration", save_measure.iteration},
+                  {"density_changes", s.density_changes},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres}};
@@ -318,12 +320,57 @@ bool finish_and_wait(EditSession& session) {
   }
 }
 
+// A density by input row (the file `--density FILE` reads) and by shape vertex (the session's):
+// a vertex takes the mean of the rows it stands for, a row its vertex's value (1 for a row
+// preparation dropped, or a uniform density).
+class DensityRows {
+ public:
+  DensityRows(std::vector<int> vertex_of_row, std::size_t vertices)
+      : vertex_of_row_(std::move(vertex_of_row)), vertices_(vertices) {}
+  // From a file's text; InvalidArgument naming the problem.
+  std::vector<double> to_vertices(const std::string& text) const {
+    std::vector<double> by_row;
+    try {
+      by_row = parse_density("density file", text, vertex_of_row_.size());
+      check_density(by_row, vertex_of_row_.size());
+    } catch (const IoError& e) {
+      throw InvalidArgument(e.what());
+    } catch (const InvalidInput& e) {
+      throw InvalidArgument(std::string("density file: ") + e.what());
+    }
+    std::vector<double> sum(vertices_, 0.0), count(vertices_, 0.0);
+    for (std::size_t row = 0; row < by_row.size(); ++row)
+      if (vertex_of_row_[row] >= 0) {
+        sum[vertex_of_row_[row]] += by_row[row];
+        count[vertex_of_row_[row]] += 1.0;
+      }
+    std::vector<double> by_vertex(vertices_, 1.0);  // a vertex no row stands for: uniform
+    for (std::size_t v = 0; v < vertices_; ++v)
+      if (count[v] > 0.0) by_vertex[v] = sum[v] / count[v];
+    return by_vertex;
+  }
+  std::string to_text(const std::vector<double>* by_vertex) const {
+    std::string text;
+    char value[32];
+    for (int vertex : vertex_of_row_) {
+      std::snprintf(value, sizeof value, "%.9g\n",
+                    by_vertex && vertex >= 0 ? (*by_vertex)[vertex] : 1.0);
+      text += value;
+    }
+    return text;
+  }
+
+ private:
+  std::vector<int> vertex_of_row_;
+  std::size_t vertices_;
+};
+
 // One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
 // "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too; with
 // `finish_on_save` it finishes the skeleton first (unless it is finished already).
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
                 const std::string& download_name, const Frame& frame, bool finish_on_save,
-                Saved& saved) {
+                Saved& saved, const DensityRows& rows) {
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
@@ -362,6 +409,13 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
       session.scale_lambda(edit.at("times").get<double>());
     else
       session.set_lambda(edit.at("value").get<double>());
+  } else if (op == "density") {
+    session.paint_density(integer_field(edit, "vertex"), edit.at("radius").get<double>(),
+                          edit.at("amount").get<double>());
+  } else if (op == "density-reset") {
+    session.set_density({});
+  } else if (op == "density-load") {
+    session.set_density(rows.to_vertices(edit.at("text").get<std::string>()));
   } else if (op == "save") {
     if (finish_on_save && !session.snapshot().finished && !finish_and_wait(session))
       throw InvalidArgument("the skeleton could not be finished before saving");
@@ -477,7 +531,14 @@ int edit_command(int argc, const char* const* argv) {
   SurfaceInput stored = read_with_density(input, run_values.density);
   SurfaceInput as_eval_reads = stored;
   clean_surface(as_eval_reads);
+  const std::size_t input_rows = stored.points.size();
   PreparedShape prepared = prepare_shape(std::move(stored), run_values.options);
+  std::vector<int> vertices(prepared.shape.size());
+  std::iota(vertices.begin(), vertices.end(), 0);
+  const DensityRows density_rows(input_labels(prepared.result.clean.kept,
+                                              prepared.result.prepare.stand_in, vertices,
+                                              input_rows),
+                                 vertices.size());
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
@@ -556,13 +617,31 @@ int edit_command(int argc, const char* const* argv) {
     };
     res.done = [&] { --pages; };
   });
+  // The painted density: per vertex for the page (float32, 1 where uniform), per input row as a
+  // file `--density FILE` reads again.
+  server.route("GET", "/api/density", [&](const HttpRequest&, HttpResponse& res) {
+    const EditSnapshot s = session.snapshot();
+    std::vector<float> values(session.shape().points.size(), 1.0f);
+    if (s.density) std::copy(s.density->begin(), s.density->end(), values.begin());
+    res.content_type = "application/octet-stream";
+    res.body.assign(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    res.headers.emplace_back("X-Vmas-Density-Changes", std::to_string(s.density_changes));
+  });
+  server.route("GET", "/api/density-file", [&](const HttpRequest&, HttpResponse& res) {
+    const EditSnapshot s = session.snapshot();
+    res.content_type = "text/plain";
+    res.headers.emplace_back("Content-Disposition",
+                             "attachment; filename=\"" + std::filesystem::path(input).stem().string() +
+                                 "_density.txt\"");
+    res.body = density_rows.to_text(s.density.get());
+  });
   Saved saved;
   const std::string download_name = std::filesystem::path(input).stem().string() + "_skeleton.ply";
   server.route("POST", "/api/edit", [&](const HttpRequest& req, HttpResponse& res) {
     try {
       res.content_type = "application/json";
       res.body = apply_edit(session, json::parse(req.body), output, download_name, frame,
-                            finish_on_save, saved)
+                            finish_on_save, saved, density_rows)
                      .dump();
     } catch (const json::exception& e) {
       res.json_error(400, std::string("bad edit: ") + e.what());

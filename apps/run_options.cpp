@@ -1,5 +1,6 @@
 // The options of a run, shared by `vmas skeletonize` and `vmas edit`: everything in
 // vmas::Options, spelled as on the command line.
+#include <filesystem>
 #include <string>
 #include <utility>
 
@@ -110,7 +111,7 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
       ("density", po::value(&values.density.file_or_rule),
        "where the skeleton should be finer: a text file of one value >= 0 per input point, in "
        "the input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most "
-       "curved points) or distance-to:X,Y,Z,R[,D] (D, default 4, within R of X,Y,Z; 1 "
+       "curved points) or distance-to:X,Y,Z,R[,D] (D, 4 unless given, within R of X,Y,Z; 1 "
        "elsewhere). With --spheres the spheres gather where it is high (4: about 4x the spheres "
        "per area of 1; 0: as few as the budget allows); with --error the threshold there is "
        "divided by it")
@@ -188,13 +189,19 @@ bool DensitySource::is_rule() const {
   return file_or_rule == "curvature" || file_or_rule.rfind("distance-to:", 0) == 0;
 }
 
+std::vector<double> density_of(const std::string& file_or_rule, const SurfaceInput& surface) {
+  if (DensitySource{file_or_rule, {}}.is_rule()) return density_by_rule(surface, file_or_rule);
+  if (!std::filesystem::exists(file_or_rule))
+    throw IoError(file_or_rule + ": no such file (nor a density rule: curvature, "
+                                 "distance-to:X,Y,Z,R[,D])");
+  return read_density(file_or_rule, surface.points.size());
+}
+
 SurfaceInput read_with_density(const std::string& path, const DensitySource& source) {
   SurfaceInput surface = read_surface_as_stored(path, source.field);
   std::string from = path + ": field '" + source.field + "'";
-  if (source.is_rule()) {
-    surface.density = density_by_rule(surface, source.file_or_rule);
-  } else if (source.is_file()) {
-    surface.density = read_density(source.file_or_rule, surface.points.size());
+  if (!source.file_or_rule.empty()) {
+    surface.density = density_of(source.file_or_rule, surface);
     from = source.file_or_rule;
   }
   try {

@@ -210,6 +210,51 @@ TEST_F(EditServer, ThePagesErrorIsVmasEvalsOfWhatASaveWrites) {
               json::parse(eval.out)["hausdorff_percent"].get<double>(), 1e-3);
 }
 
+TEST_F(EditServer, TheDensityIsPaintedSavedAndLoadedByInputRow) {
+  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 59);
+  SurfaceInput cloud;
+  cloud.points = s.points;
+  cloud.normals = s.normals;
+  cloud.points.push_back(cloud.points[10]);  // a duplicate row: dropped, saved as 1
+  cloud.normals.push_back(cloud.normals[10]);
+  write_surface(path("capsule.xyz"), cloud);
+  start({path("capsule.xyz"), "--spheres", "8", "--threads", "1"});
+  ASSERT_EQ(state_with_spheres(8)["spheres"].size(), 8u);
+  const auto uniform = client_->Get(api("/api/density").c_str());
+  ASSERT_EQ(uniform->status, 200);
+  ASSERT_EQ(uniform->body.size(), 3000 * sizeof(float));
+  ASSERT_TRUE(edit({{"op", "density"}, {"vertex", 0}, {"radius", 0.2}, {"amount", 3.0}}));
+  const json painted = state_when([](const json& state) { return state["density_changes"] == 1; });
+  ASSERT_EQ(painted["density_changes"], 1) << painted.dump();
+  const auto values = client_->Get(api("/api/density").c_str());
+  std::vector<float> density(3000);
+  std::memcpy(density.data(), values->body.data(), values->body.size());
+  EXPECT_FLOAT_EQ(density[0], 4.0f);
+  // Saved by input row (3001 lines, the duplicate 1), loaded again as it was.
+  const auto file = client_->Get(api("/api/density-file").c_str());
+  ASSERT_EQ(file->status, 200);
+  EXPECT_EQ(std::count(file->body.begin(), file->body.end(), '\n'), 3001);
+  EXPECT_EQ(file->body.substr(0, 2), "4\n");
+  ASSERT_TRUE(edit({{"op", "density-reset"}}));
+  state_when([](const json& state) { return state["density_changes"] == 2; });
+  ASSERT_TRUE(edit({{"op", "density-load"}, {"text", file->body}}));
+  state_when([](const json& state) { return state["density_changes"] == 3; });
+  const auto loaded = client_->Get(api("/api/density").c_str());
+  ASSERT_EQ(loaded->body.size(), values->body.size());
+  std::vector<float> reloaded(3000);
+  std::memcpy(reloaded.data(), loaded->body.data(), loaded->body.size());
+  for (std::size_t v = 0; v < density.size(); ++v)
+    ASSERT_NEAR(reloaded[v], density[v], 1e-6 * density[v]) << v;  // 9 digits in the file
+  const auto bad = edit({{"op", "density-load"}, {"text", "1\n2\n"}});
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_NE(bad->body.find("density file: 2 density values for the input's 3001 points"),
+            std::string::npos)
+      << bad->body;
+  const auto negative = edit({{"op", "density"}, {"vertex", 0}, {"radius", 2.0}, {"amount", 1.0}});
+  EXPECT_EQ(negative->status, 400);
+}
+
 TEST_F(EditServer, RefusesRequestsWithoutTheTokenFromOtherSitesAndBadEdits) {
   write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
   start({path("ball.off"), "--spheres", "3", "--threads", "1"});

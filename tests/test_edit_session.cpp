@@ -381,3 +381,53 @@ TEST(EditSession, FinishingAnUntouchedSessionIsAtLeastAsGoodAsAFreshRun) {
 
 }  // namespace
 }  // namespace vmas
+
+namespace vmas {
+namespace {
+
+TEST(EditSession, PaintedDensityDrawsSpheresAndUndoTakesItBack) {
+  const auto session = capsule_session(12);
+  const EditSnapshot before = settled(*session, 12);
+  ASSERT_FALSE(before.density);
+  const auto near_top = [](const EditSnapshot& s) {
+    return std::count_if(s.spheres.begin(), s.spheres.end(),
+                         [](const Sphere& sphere) { return sphere.center.z() > 0.75; });
+  };
+  // The vertex nearest the top cap.
+  const Shape& shape = session->shape();
+  int top = 0;
+  for (int v = 0; v < shape.size(); ++v)
+    if (shape.points[v].z() > shape.points[top].z()) top = v;
+  session->paint_density(top, 0.3, 7.0);
+  const EditSnapshot painted =
+      wait_until(*session, [&](const EditSnapshot& s) { return s.density_changes > 0; });
+  ASSERT_TRUE(painted.density);
+  ASSERT_EQ(painted.density->size(), static_cast<std::size_t>(shape.size()));
+  EXPECT_DOUBLE_EQ((*painted.density)[top], 8.0);  // 1 + 7 at the brush's centre
+  EXPECT_EQ(*std::min_element(painted.density->begin(), painted.density->end()), 1.0);
+  // The optimisation keeps the count and moves spheres where the density is high: the
+  // removal of a few spheres makes them come back there.
+  session->set_target_spheres(8);
+  settled(*session, 8);
+  session->set_target_spheres(12);
+  const EditSnapshot regrown = wait_until(*session, [&](const EditSnapshot& s) {
+    return s.spheres.size() == 12 && near_top(s) > near_top(before);
+  });
+  EXPECT_GT(near_top(regrown), near_top(before));
+  // Three undos: the counts, then the painting.
+  session->undo();
+  session->undo();
+  session->undo();
+  const EditSnapshot undone = wait_until(*session, [&](const EditSnapshot& s) {
+    return s.density_changes > painted.density_changes;
+  });
+  EXPECT_FALSE(undone.density);
+  EXPECT_THROW(session->paint_density(-1, 0.3, 1.0), InvalidArgument);
+  EXPECT_THROW(session->paint_density(top, 0.0, 1.0), InvalidOption);
+  EXPECT_THROW(session->paint_density(top, 0.3, 1e9), InvalidOption);
+  EXPECT_THROW(session->set_density(std::vector<double>(3, 1.0)), InvalidArgument);
+  EXPECT_THROW(session->set_density(std::vector<double>(shape.size(), 0.0)), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace vmas

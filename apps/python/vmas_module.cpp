@@ -266,12 +266,10 @@ struct Call {
 // vmas.density_by_rule ("curvature", "distance-to:X,Y,Z,R[,D]"), or the path (str or
 // os.PathLike) of a file of one value per line. Checked as the CLI checks it.
 std::vector<double> density_of(const py::handle& value, const SurfaceInput& surface) {
-  const bool text = py::isinstance<py::str>(value);
+  const bool text = py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value);
   std::vector<double> density;
-  if (text && cli::DensitySource{std::string(py::str(value)), {}}.is_rule()) {
-    density = density_by_rule(surface, py::str(value));
-  } else if (text || py::isinstance(value, py::module_::import("os").attr("PathLike"))) {
-    density = read_density(path_of(value), surface.points.size());
+  if (text || py::isinstance(value, py::module_::import("os").attr("PathLike"))) {
+    density = cli::density_of(path_of(value), surface);
   } else {
     const py::array array = py::array::ensure(value);
     if (!array || array.ndim() != 1 || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' &&

@@ -57,6 +57,10 @@ struct EditSnapshot {
   // yet).
   double measured_error = 0.0;
   int measured_at_iteration = -1;
+  // The density of the shape's vertices (Shape::density; null: uniform), shared with the
+  // session, and how many times it has changed (painted, set, undone).
+  std::shared_ptr<const std::vector<double>> density;
+  std::uint64_t density_changes = 0;
 };
 
 // What finish() measures against and how it refines.
@@ -103,13 +107,22 @@ class EditSession {
   void freeze(const std::vector<std::uint64_t>& keys, bool frozen);
   void freeze(std::uint64_t key, bool frozen) { freeze(std::vector<std::uint64_t>{key}, frozen); }
   void set_target_spheres(int count);  // grows by splitting, shrinks by removing small clusters
+  // The density (docs/design.md, "Density"), one edit each: a brush stroke adds `amount` at
+  // `vertex`, falling smoothly to nothing at `radius` (a fraction of the diagonal), never below
+  // 0 (a uniform density of 1 when there was none; dropped when it would leave every vertex at
+  // 0); set_density gives every vertex its value (empty: uniform). InvalidOption for a radius
+  // out of (0, 1] or an amount beyond ±kMaxDensityStroke, InvalidArgument for a vertex out of
+  // range or a density that vmas::check_density refuses.
+  static constexpr double kMaxDensityStroke = 100.0;
+  void paint_density(int vertex, double radius, double amount);
+  void set_density(std::vector<double> density);
   void set_lambda(double lambda);
   // Relative to the value when the edit's turn comes, so that quick edits add up (five +1
   // before the worker's next turn are +5): the count target (the sphere count when growing to
   // an error threshold) by `by`, kept within 1 and the most spheres; λ times `factor` (> 0).
   void change_target_spheres(int by);
   void scale_lambda(double factor);
-  // Takes back the last edit (add, split, remove, freeze, count, λ; not pause), at most
+  // Takes back the last edit (add, split, remove, freeze, count, λ, density; not pause), at most
   // kUndoSteps of them: the spheres, freezes, count and λ of that moment come back and the
   // optimisation goes on from there. redo() makes an undone edit again, until a new edit.
   // Either does nothing when there is nothing to take back or make again.
@@ -130,6 +143,8 @@ class EditSession {
   bool finishing() const;  // a finish asked for and not done or cancelled yet
 
   EditSnapshot snapshot() const;
+  // Its points, normals and graph; its density is the worker's (snapshot().density is the one
+  // to read).
   const Shape& shape() const;
   // The surface -> medial distance of every shape vertex to `mesh` (a snapshot's), relative to
   // the diagonal: vmas eval's per-vertex error, for a heat map. Computed in the calling thread.

@@ -40,6 +40,9 @@ SurfaceInput read_surface_as_stored(const std::string& path,
 // file when it cannot be read, a line is not one number, or the count differs; the values
 // themselves are check_density's (vmas/prepare.hpp).
 std::vector<double> read_density(const std::string& path, std::size_t points);
+// The same from a file's `text`, its errors naming `name`.
+std::vector<double> parse_density(const std::string& name, const std::string& text,
+                                  std::size_t points);
 
 // Gives every point whose normal is missing (NaN or zero: a file that has normals for some
 // points only) the normal of the plane through its k nearest neighbours (NormalOptions::k in

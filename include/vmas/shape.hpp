@@ -5,6 +5,7 @@
 // the 16 nearest neighbours) used for cluster adjacency.
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "vmas/sqem.hpp"
@@ -54,6 +55,11 @@ struct Shape {
   // the refinement's removals weigh by.
   double error_weight(int v) const {
     return density.empty() ? 1.0 : density_weight(density[v] / density_max);
+  }
+  // Sets `density` (checked by the caller: vmas::check_density) and `density_max`.
+  void set_density(std::vector<double> values) {
+    density = std::move(values);
+    density_max = density.empty() ? 0.0 : *std::max_element(density.begin(), density.end());
   }
   // Whether the density differs between vertices (a uniform one changes no choice).
   bool density_varies() const {

@@ -208,6 +208,9 @@ class Skeletonizer {
   // A new target or λ for the steps to come; InvalidOption when out of range.
   void set_target(const Target& target);
   void set_lambda(double lambda);
+  // A new density of the shape's vertices (Shape::density; empty: uniform) for the splits and
+  // fits to come; InvalidArgument when it is not one value per vertex, finite and >= 0, some > 0.
+  void set_density(std::vector<double> density);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
 
   SkeletonizerState state() const { return {spheres_, frozen_, labels_, keys_}; }

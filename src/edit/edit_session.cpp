@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -47,11 +48,15 @@ struct EditSession::Impl {
       Pause,
       Undo,
       Redo,
-      Finish
+      Finish,
+      PaintDensity,
+      SetDensity
     } kind;
     std::vector<std::uint64_t> keys;  // Remove, Freeze
     int value = 0;
     double number = 0.0;
+    double amount = 0.0;          // PaintDensity (value: the vertex, number: the radius)
+    std::vector<double> density;  // SetDensity
   };
 
   void enqueue(const Edit& edit);
@@ -66,12 +71,16 @@ struct EditSession::Impl {
   bool finish_progress(const char* phase, double fraction);
   bool adopt_fresh_run_if_better();  // worker thread, in apply_finish(); false when cancelled
   double measure();              // worker thread: the error now, relative to the diagonal
-  // What undo() brings back: the skeleton and the targets of a moment.
+  // What undo() brings back: the skeleton, the targets and the density of a moment (moments
+  // share a density until it is painted).
   struct Moment {
     SkeletonizerState state;
     Target target;
     double lambda = 0.0;
+    std::shared_ptr<const std::vector<double>> density;
   };
+  void use_density(std::shared_ptr<const std::vector<double>> density);  // worker thread
+  bool paint_density(int vertex, double radius, double amount);  // worker; false: all would be 0
   Moment moment() const;            // worker thread
   void go_back_to(const Moment& m);  // worker thread
   void publish(double steps_per_second);
@@ -83,6 +92,8 @@ struct EditSession::Impl {
   int iteration_ = 0;
   std::size_t dropped_ = 0;
   std::deque<Moment> undo_, redo_;  // worker's: the newest last
+  std::shared_ptr<const std::vector<double>> density_;  // worker's: the shape's (null: none)
+  std::uint64_t density_changes_ = 0;                   // worker's
   FinishOptions finish_options_;
   std::unique_ptr<Evaluator> evaluator_;  // worker's, built by the first finish
   int finishes_ = 0;                      // worker's
@@ -115,6 +126,8 @@ EditSession::Impl::Impl(Shape shape, const SkeletonizerOptions& options, int thr
     finish_options_.surface.points = skeletonizer_->shape().points;
     finish_options_.surface.normals = skeletonizer_->shape().normals;
   }
+  if (!skeletonizer_->shape().density.empty())
+    density_ = std::make_shared<const std::vector<double>>(skeletonizer_->shape().density);
   publish(0.0);
   worker_ = std::thread([this] { work(); });
 }
@@ -161,6 +174,33 @@ void EditSession::split_at(int vertex) {
   if (vertex < 0 || vertex >= shape().size())
     throw InvalidArgument("no vertex with index " + std::to_string(vertex));
   impl_->enqueue({Impl::Edit::Kind::Split, {}, vertex});
+}
+
+void EditSession::paint_density(int vertex, double radius, double amount) {
+  if (vertex < 0 || vertex >= shape().size())
+    throw InvalidArgument("no vertex with index " + std::to_string(vertex));
+  if (!(radius > 0.0 && radius <= 1.0))
+    throw InvalidOption("radius", "must be in (0, 1], a fraction of the diagonal (got " +
+                                      std::to_string(radius) + ")");
+  if (!(std::abs(amount) <= kMaxDensityStroke))
+    throw InvalidOption("amount", "must be between -" + std::to_string(kMaxDensityStroke) +
+                                      " and " + std::to_string(kMaxDensityStroke));
+  Impl::Edit edit{Impl::Edit::Kind::PaintDensity, {}, vertex, radius};
+  edit.amount = amount;
+  impl_->enqueue(edit);
+}
+
+void EditSession::set_density(std::vector<double> density) {
+  if (!density.empty()) {
+    try {
+      check_density(density, shape().points.size());
+    } catch (const InvalidInput& e) {
+      throw InvalidArgument(e.what());
+    }
+  }
+  Impl::Edit edit{Impl::Edit::Kind::SetDensity, {}};
+  edit.density = std::move(density);
+  impl_->enqueue(edit);
 }
 
 void EditSession::freeze(const std::vector<std::uint64_t>& keys, bool frozen) {
@@ -228,7 +268,7 @@ std::uint64_t EditSession::wait_for_version(std::uint64_t version, int timeout_m
 
 EditSession::Impl::Moment EditSession::Impl::moment() const {
   const Skeletonizer& s = *skeletonizer_;
-  return {s.state(), s.options().target, s.options().lambda};
+  return {s.state(), s.options().target, s.options().lambda, density_};
 }
 
 void EditSession::Impl::go_back_to(const Moment& m) {
@@ -236,6 +276,30 @@ void EditSession::Impl::go_back_to(const Moment& m) {
   s.restore(m.state);
   s.set_target(m.target);
   s.set_lambda(m.lambda);
+  if (m.density != density_) use_density(m.density);
+}
+
+void EditSession::Impl::use_density(std::shared_ptr<const std::vector<double>> density) {
+  skeletonizer_->set_density(density ? *density : std::vector<double>());
+  density_ = std::move(density);
+  ++density_changes_;
+}
+
+bool EditSession::Impl::paint_density(int vertex, double radius, double amount) {
+  const Shape& shape = skeletonizer_->shape();
+  std::vector<double> painted =
+      density_ ? *density_ : std::vector<double>(shape.points.size(), 1.0);
+  // A smooth bump: `amount` at the vertex, nothing from `radius` (of the diagonal) on.
+  const double reach = radius * shape.diagonal;
+  for (int v = 0; v < shape.size(); ++v) {
+    const double distance = (shape.points[v] - shape.points[vertex]).norm();
+    if (distance >= reach) continue;
+    const double falloff = 1.0 - (distance / reach) * (distance / reach);
+    painted[v] = std::max(0.0, painted[v] + amount * falloff * falloff);
+  }
+  if (std::none_of(painted.begin(), painted.end(), [](double d) { return d > 0.0; })) return false;
+  use_density(std::make_shared<const std::vector<double>>(std::move(painted)));
+  return true;
 }
 
 bool EditSession::Impl::apply(const Edit& edit) {
@@ -256,8 +320,10 @@ bool EditSession::Impl::apply(const Edit& edit) {
   // Nothing to take back (a cancelled finish left everything as it was: not a dropped edit).
   if (!apply_one(edit)) return edit.kind == Edit::Kind::Finish;
   if (edit.kind != Edit::Kind::Finish) finished_ = false;
+  // A fresh run knows nothing of these (it runs on the prepared shape as it came).
   hand_edited_ = hand_edited_ || edit.kind == Edit::Kind::Remove ||
-                 edit.kind == Edit::Kind::Split || edit.kind == Edit::Kind::Freeze;
+                 edit.kind == Edit::Kind::Split || edit.kind == Edit::Kind::Freeze ||
+                 edit.kind == Edit::Kind::PaintDensity || edit.kind == Edit::Kind::SetDensity;
   undo_.push_back(std::move(before));
   if (static_cast<int>(undo_.size()) > kUndoSteps) undo_.pop_front();
   redo_.clear();
@@ -318,6 +384,13 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
       return true;
     case Edit::Kind::Finish:
       return apply_finish();
+    case Edit::Kind::PaintDensity:
+      return paint_density(edit.value, edit.number, edit.amount);
+    case Edit::Kind::SetDensity:
+      use_density(edit.density.empty()
+                      ? nullptr
+                      : std::make_shared<const std::vector<double>>(edit.density));
+      return true;
     case Edit::Kind::Undo:
     case Edit::Kind::Redo:
       break;  // apply() takes them
@@ -451,6 +524,8 @@ void EditSession::Impl::publish(double steps_per_second) {
   next.error_after_finish = error_after_finish_;
   next.measured_error = measured_error_;
   next.measured_at_iteration = measured_at_iteration_;
+  next.density = density_;
+  next.density_changes = density_changes_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;

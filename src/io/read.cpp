@@ -116,25 +116,28 @@ SurfaceInput read_surface_as_stored(const std::string& path, const std::string& 
   return naming_the_file_on_bad_alloc(path, [&] { return read_stored(path, density_field); });
 }
 
+std::vector<double> parse_density(const std::string& name, const std::string& text,
+                                  std::size_t points) {
+  io_internal::LineTokenizer lines(name, text);
+  std::vector<std::string_view> tokens;
+  std::vector<double> density;
+  while (lines.next(tokens)) {
+    if (tokens.size() != 1)
+      lines.fail("expected one density value per line, found " + std::to_string(tokens.size()));
+    if (density.size() == points)
+      lines.fail("more values than the input's " + std::to_string(points) + " points");
+    density.push_back(lines.number(tokens[0]));
+  }
+  if (density.size() != points)
+    fail(name, std::to_string(density.size()) + " density values for the input's " +
+                   std::to_string(points) + " points");
+  return density;
+}
+
 std::vector<double> read_density(const std::string& path, std::size_t points) {
   io_internal::check_readable(path);
-  return naming_the_file_on_bad_alloc(path, [&] {
-    const std::string bytes = read_file(path, "");  // text, whatever its extension
-    io_internal::LineTokenizer lines(path, bytes);
-    std::vector<std::string_view> tokens;
-    std::vector<double> density;
-    while (lines.next(tokens)) {
-      if (tokens.size() != 1)
-        lines.fail("expected one density value per line, found " + std::to_string(tokens.size()));
-      if (density.size() == points)
-        lines.fail("more values than the input's " + std::to_string(points) + " points");
-      density.push_back(lines.number(tokens[0]));
-    }
-    if (density.size() != points)
-      fail(path, std::to_string(density.size()) + " density values for the input's " +
-                     std::to_string(points) + " points");
-    return density;
-  });
+  return naming_the_file_on_bad_alloc(
+      path, [&] { return parse_density(path, read_file(path, ""), points); });
 }
 
 SurfaceInput read_surface(const std::string& path, CleanReport* report) {

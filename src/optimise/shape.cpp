@@ -15,6 +15,7 @@
 #include "core/subsample.hpp"
 #include "vmas/error.hpp"
 #include "vmas/kdtree.hpp"
+#include "vmas/prepare.hpp"
 
 namespace vmas {
 
@@ -208,13 +209,8 @@ Shape build_shape(const SurfaceInput& input, const ShapeOptions& options) {
   if (input.points.empty()) throw InvalidInput("the shape has no points");
   Shape shape;
   shape.points = input.points;
-  if (!input.density.empty() && input.density.size() != input.points.size())
-    throw InvalidInput(std::to_string(input.density.size()) + " density values for " +
-                       std::to_string(input.points.size()) + " points");
-  shape.density = input.density;
-  for (double d : shape.density) shape.density_max = std::max(shape.density_max, d);
-  if (!shape.density.empty() && !(shape.density_max > 0.0))
-    throw InvalidInput("every density value is 0: some point must have a positive density");
+  if (!input.density.empty()) check_density(input.density, input.points.size());
+  shape.set_density(input.density);
   shape.is_mesh = input.is_mesh();
   shape.diagonal = diagonal_of(bounding_box(input.points));
   if (!(shape.diagonal > 0.0)) throw InvalidInput("all points coincide");
@@ -259,7 +255,7 @@ Shape coarsen_shape(const Shape& shape, std::size_t budget) {
     }
   }
   for (const internal::DensityMean& mean : density) coarse.density.push_back(mean.value());
-  coarse.density_max = shape.density_max;
+  coarse.density_max = shape.density_max;  // the cells' means: at most the fine shape's largest
   set_neighbour_graph(coarse, pairs);
   coarse.blocks = build_blocks(coarse.points);
   coarse.is_mesh = shape.is_mesh;

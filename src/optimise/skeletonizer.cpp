@@ -14,6 +14,7 @@
 #include "optimise/update.hpp"
 #include "core/validate_member.hpp"
 #include "vmas/error.hpp"
+#include "vmas/prepare.hpp"
 #include "vmas/topology.hpp"
 
 namespace vmas {
@@ -509,6 +510,18 @@ void Skeletonizer::set_lambda(double lambda) {
   changed.validate();
   options_ = changed;
   energies_current_ = false;  // E_v depends on λ
+}
+
+void Skeletonizer::set_density(std::vector<double> density) {
+  if (!density.empty()) {
+    try {
+      check_density(density, shape_.points.size());
+    } catch (const InvalidInput& e) {
+      throw InvalidArgument(e.what());
+    }
+  }
+  shape_.set_density(std::move(density));
+  refresh_errors(!energies_current_);  // the clusters' densities and worst weighted errors
 }
 
 void Skeletonizer::restore(const SkeletonizerState& state) {

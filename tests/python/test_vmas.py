@@ -504,3 +504,46 @@ def test_the_noise_curve_example_runs_and_plots(tmp_path):
     assert len(lines) == 8
     assert all(0.0 < float(line.split("epsilon ")[1].split(" %")[0]) < 50.0 for line in lines)
     assert plot.stat().st_size > 10000 and open(plot, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_density_puts_spheres_where_it_is_high_and_bad_ones_are_refused(tmp_path):
+    rng = np.random.default_rng(5)
+    points = rng.normal(size=(4000, 3)) * [3.0, 1.0, 0.8]
+    points /= np.linalg.norm(points / [3.0, 1.0, 0.8], axis=1)[:, None]
+    dense = points[:, 0] > 1.5
+    density = np.where(dense, 4.0, 1.0)
+
+    def dense_spheres(result):
+        labels = np.asarray(result.labels)
+        return sum(1 for s in range(len(result.radii)) if dense[labels == s].mean() > 0.5)
+
+    plain = vmas.skeletonize(points, spheres=30, threads=1)
+    uniform = vmas.skeletonize(points, spheres=30, threads=1, density=np.ones(len(points)))
+    assert np.array_equal(plain.centers, uniform.centers)
+    weighted = vmas.skeletonize(points, spheres=30, threads=1, density=density)
+    assert dense_spheres(weighted) >= 1.5 * dense_spheres(plain)
+    # The same from a file, a field of the input and a rule.
+    path = tmp_path / "density.txt"
+    path.write_text("".join(f"{d}\n" for d in density))
+    from_file = vmas.skeletonize(points, spheres=30, threads=1, density=path)
+    assert np.array_equal(from_file.centers, weighted.centers)
+    xyz = tmp_path / "cloud.xyz"
+    xyz.write_text("".join(f"{x!r} {y!r} {z!r} {d}\n" for (x, y, z), d in zip(points, density)))
+    surface = vmas.read(xyz, density_field="density")
+    assert np.array_equal(surface.density, density)
+    rule = vmas.density_by_rule(points, "distance-to:3,0,0,1.5")
+    assert rule.shape == (len(points),) and set(np.unique(rule)) == {1.0, 4.0}
+    with pytest.raises(vmas.InvalidInput, match="the density has 3 values for 4000 points"):
+        vmas.skeletonize(points, spheres=30, density=[1.0, 2.0, 3.0])
+    with pytest.raises(vmas.InvalidInput, match="point 2 is negative"):
+        vmas.skeletonize(points, spheres=30, density=np.r_[1.0, 1.0, -1.0, np.ones(3997)])
+    with pytest.raises(vmas.InvalidInput, match="not a number"):
+        vmas.skeletonize(points, spheres=30, density=np.r_[np.nan, np.ones(3999)])
+    with pytest.raises(vmas.InvalidInput, match="every density value is 0"):
+        vmas.skeletonize(points, spheres=30, density=np.zeros(4000))
+    with pytest.raises(vmas.IoError, match="curvy: no such file .nor a density rule"):
+        vmas.skeletonize(points, spheres=30, density="curvy")
+    with pytest.raises(vmas.InvalidOption, match="distance-to:X,Y,Z,R"):
+        vmas.skeletonize(points, spheres=30, density="distance-to:1,2")
+    with pytest.raises(TypeError, match="density_field"):
+        vmas.skeletonize(points, spheres=30, density_field="d")
