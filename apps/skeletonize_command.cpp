@@ -96,6 +96,10 @@ void print_preparation(const json& s, const Settings& settings, std::ostream& ou
     out << "thinned: " << thinning["points"] << " points take part (one per voxel of "
         << thinning["voxel_percent"] << " % of the diagonal; --max-points "
         << settings.options.prepare.max_points << ")\n";
+  const json& density = s["density"];
+  if (density["given"].get<bool>())
+    out << "density: from " << density["min"] << " to " << density["max"]
+        << " (spheres gather where it is high; docs/design.md, Density)\n";
   const json& strays = s["stray_clusters"];
   if (strays["count"].get<int>() > 0)
     out << "stray clusters: removed " << strays["count"] << " group"

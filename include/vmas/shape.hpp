@@ -38,6 +38,7 @@ struct Shape {
   std::vector<double> area;            // A(v) (eq. 4 and 6)
   std::vector<double> density;         // of each vertex (SurfaceInput::density; empty: uniform)
   double density_max = 0.0;            // the largest of them
+  std::vector<double> error_weights;   // of each vertex: error_weight's (empty without a density)
   std::vector<Sqem> quadric;           // Q_v (eq. 5 and 7)
   std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
   std::vector<int> neighbours;  //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
@@ -53,13 +54,14 @@ struct Shape {
   // ... of vertex v's error, relative to the densest vertex's (1 without a density, and for a
   // uniform one: such a field changes nothing to the bit): what the fits, the split seeds and
   // the refinement's removals weigh by.
-  double error_weight(int v) const {
-    return density.empty() ? 1.0 : density_weight(density[v] / density_max);
-  }
-  // Sets `density` (checked by the caller: vmas::check_density) and `density_max`.
+  double error_weight(int v) const { return error_weights.empty() ? 1.0 : error_weights[v]; }
+  // Sets `density` (checked by the caller: vmas::check_density), `density_max` and
+  // `error_weights`.
   void set_density(std::vector<double> values) {
     density = std::move(values);
     density_max = density.empty() ? 0.0 : *std::max_element(density.begin(), density.end());
+    error_weights.clear();
+    for (double d : density) error_weights.push_back(density_weight(d / density_max));
   }
   // Whether the density differs between vertices (a uniform one changes no choice).
   bool density_varies() const {

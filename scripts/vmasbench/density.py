@@ -17,7 +17,7 @@ DENSE = 4.0
 # curvature rule, dense where it gives at least DENSE_CURVED)
 CASES = (("armadillo head", "meshes/armadillo.off", 83, 0.12),
          ("merged bunny (scan) top", "scans/bunny_merged_45k.xyz", 100, 0.15),
-         ("flanged pipe (CAD), curvature", None, 60, None))
+         ("stepped shaft (CAD), curvature", None, 60, None))
 DENSE_CURVED = 2.5
 
 
@@ -45,8 +45,8 @@ def density_section(args, results, save, log):
             np.savetxt(density_file, np.where(dense, DENSE, 1.0), fmt="%g")
             field = ("--density", density_file)
         else:
-            part_points, faces = cad.PARTS["flanged_pipe"]()
-            shape = os.path.join(work, "flanged_pipe.off")
+            part_points, faces = cad.PARTS["stepped_shaft"]()
+            shape = os.path.join(work, "stepped_shaft.off")
             vmas_files.write_off(shape, part_points, faces)
             dense = running.vmas.density_by_rule(part_points, "curvature") >= DENSE_CURVED
             field = ("--density", "curvature")

@@ -254,8 +254,9 @@ Shape coarsen_shape(const Shape& shape, std::size_t budget) {
       if (other > cell) pairs.emplace_back(cell, other);  // the graph is symmetric
     }
   }
-  for (const internal::DensityMean& mean : density) coarse.density.push_back(mean.value());
-  coarse.density_max = shape.density_max;  // the cells' means: at most the fine shape's largest
+  std::vector<double> cell_density;
+  for (const internal::DensityMean& mean : density) cell_density.push_back(mean.value());
+  coarse.set_density(std::move(cell_density));
   set_neighbour_graph(coarse, pairs);
   coarse.blocks = build_blocks(coarse.points);
   coarse.is_mesh = shape.is_mesh;

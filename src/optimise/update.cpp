@@ -38,7 +38,7 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
   // Local accumulators: through the pointers every term would be a load and a store.
   Eigen::Matrix4d h = cluster_quadric.A;
   Vec4 g = cluster_quadric.b;
-  const bool weighted = !shape.density.empty();
+  const bool weighted = !shape.error_weights.empty();
   for (int v : members) {
     const Vec3 offset = shape.points[v] - center;
     const double length = offset.norm();

@@ -359,6 +359,12 @@ PrepareReport prepare_surface(SurfaceInput& surface, const PrepareOptions& optio
   report.kept.resize(surface.points.size());
   std::iota(report.kept.begin(), report.kept.end(), 0);
   report.stand_in = report.kept;
+  if (!surface.density.empty()) {
+    const auto [low, high] = std::minmax_element(surface.density.begin(), surface.density.end());
+    report.density_given = true;
+    report.density_low = *low;
+    report.density_high = *high;
+  }
   report.frame = working_frame(surface.points);
   for (Vec3& p : surface.points) p = report.frame.to_working(p);
   for (Vec3& n : surface.normals) n = report.frame.axes.transpose() * n;
