@@ -210,3 +210,23 @@ TEST_F(DensityCli, FieldsAndFilesAreReadAndTheirErrorsNameTheFile) {
 
 }  // namespace
 }  // namespace vmas
+
+namespace vmas {
+namespace {
+
+TEST(Density, MergedDuplicatesCarryTheirMeanDensity) {
+  SurfaceInput cloud;
+  cloud.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0)};
+  cloud.density = {1.0, 2.0, 4.0, 3.0, 7.0};
+  clean_surface(cloud);
+  ASSERT_EQ(cloud.points.size(), 3u);
+  EXPECT_EQ(cloud.density, (std::vector<double>{4.0, 2.0, 3.0}));
+  SurfaceInput uniform;
+  uniform.points = {Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 0, 0)};
+  uniform.density.assign(4, 0.1);  // three 0.1 add up to more than 0.3
+  clean_surface(uniform);
+  EXPECT_EQ(uniform.density, (std::vector<double>{0.1, 0.1}));
+}
+
+}  // namespace
+}  // namespace vmas

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/density_mean.hpp"
 #include "core/radix_sort.hpp"
 #include "vmas/error.hpp"
 
@@ -175,6 +176,14 @@ CleanReport clean_surface(SurfaceInput& surface) {
   std::vector<bool> referenced;
   std::vector<Face> faces = kept_faces(surface, representative, min_area, report, referenced);
 
+  // A merged point carries the mean density of its duplicates.
+  if (with_density && report.duplicate_points > 0) {
+    std::vector<internal::DensityMean> groups(count);
+    for (Index i = 0; i < static_cast<Index>(count); ++i)
+      if (representative[i] != kDropped) groups[representative[i]].add(surface.density[i], 1.0);
+    for (Index i = 0; i < static_cast<Index>(count); ++i)
+      if (representative[i] == i) surface.density[i] = groups[i].value();
+  }
   // The points kept move down in place (a point's new place is never after its old one): a big
   // cloud is never held twice.
   const bool mesh = surface.is_mesh();
