@@ -63,10 +63,6 @@ struct Shape {
     error_weights.clear();
     for (double d : density) error_weights.push_back(density_weight(d / density_max));
   }
-  // Whether the density differs between vertices (a uniform one changes no choice).
-  bool density_varies() const {
-    return std::any_of(density.begin(), density.end(), [&](double d) { return d != density[0]; });
-  }
 };
 
 // Builds the shape from a cleaned input. Meshes take their normals and areas from the faces

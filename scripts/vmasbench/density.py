@@ -21,14 +21,13 @@ CASES = (("armadillo head", "meshes/armadillo.off", 83, 0.12),
 DENSE_CURVED = 2.5
 
 
-def _shares(labels, dense, spheres):
-    """The share of spheres most of whose labelled points are dense."""
+def _share(labels, dense, spheres):
+    """The spheres' mean share of dense points among those they hold: the share of spheres in the
+    dense region, a sphere on its border counting in part (a thin dense band, such as a part's
+    edges, is no sphere's majority)."""
     labels = np.asarray(labels)
-    count = 0
-    for s in range(spheres):
-        mine = dense[labels == s]
-        count += len(mine) > 0 and mine.mean() > 0.5
-    return count / spheres
+    shares = [dense[labels == s].mean() for s in range(spheres) if np.any(labels == s)]
+    return float(np.mean(shares))
 
 
 def density_section(args, results, save, log):
@@ -64,7 +63,7 @@ def density_section(args, results, save, log):
             labels = np.loadtxt(labels_path, dtype=int)
             errors = np.loadtxt(errors_path)
             diagonal = vmas_files.bbox_diagonal(read_mesh(shape)[0])
-            entry["share"] = _shares(labels, dense, spheres)
+            entry["share"] = _share(labels, dense, spheres)
             entry["cover_dense"] = 100.0 * float(errors[dense].max()) / diagonal
             entry["cover_rest"] = 100.0 * float(errors[~dense].max()) / diagonal
             row[tag] = entry

@@ -69,10 +69,6 @@ constexpr std::size_t kCoarseShare = 4;
 constexpr std::size_t kCoarseVerticesPerSphere = 50;
 constexpr double kCoarseAtMost = 0.7;
 
-// A split round ends at a cluster whose rank is below this share of one passed over for its
-// neighbour, when the density varies (select_clusters_to_split).
-constexpr double kBlockedShare = 0.25;
-
 }  // namespace
 
 Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
@@ -288,11 +284,8 @@ int Skeletonizer::split() {
     rank[c] = std::sqrt(split_error(c) * worst_errors_[c]);
   }
   // A perfectly fitted cluster (rank 0) must still be able to split when spheres are missing.
-  // With a varying density, a round does not fill up with clusters far less wanting than a
-  // denser one passed over for its neighbour: the dense region gets its spheres first.
-  const double blocked_share = shape_.density_varies() ? kBlockedShare : 0.0;
   const auto chosen = select_clusters_to_split(rank, cluster_adjacency(shape_, labels_, count),
-                                               eligible, max_count, blocked_share);
+                                               eligible, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
     spheres_.push_back(projector_.ball_at(worst));

@@ -20,8 +20,7 @@ void SplitOptions::validate() const {
 
 std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_errors,
                                           const std::vector<std::vector<int>>& adjacency,
-                                          const std::vector<bool>& eligible, int max_count,
-                                          double blocked_share) {
+                                          const std::vector<bool>& eligible, int max_count) {
   const int count = static_cast<int>(cluster_errors.size());
   std::vector<int> order(count);
   std::iota(order.begin(), order.end(), 0);
@@ -29,15 +28,9 @@ std::vector<int> select_clusters_to_split(const std::vector<double>& cluster_err
                    [&](int a, int b) { return cluster_errors[a] > cluster_errors[b]; });
   std::vector<bool> blocked(count, false);
   std::vector<int> chosen;
-  double most_blocked = 0.0;  // the highest rank passed over for a neighbour chosen before it
   for (int c : order) {
     if (static_cast<int>(chosen.size()) >= max_count) break;
-    if (!eligible[c]) continue;
-    if (blocked[c]) {
-      most_blocked = std::max(most_blocked, cluster_errors[c]);
-      continue;
-    }
-    if (cluster_errors[c] < blocked_share * most_blocked) break;
+    if (!eligible[c] || blocked[c]) continue;
     chosen.push_back(c);
     for (int neighbour : adjacency[c]) blocked[neighbour] = true;
   }
