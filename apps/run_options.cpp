@@ -192,8 +192,9 @@ bool DensitySource::is_rule() const {
 std::vector<double> density_of(const std::string& file_or_rule, const SurfaceInput& surface) {
   if (DensitySource{file_or_rule, {}}.is_rule()) return density_by_rule(surface, file_or_rule);
   if (!std::filesystem::exists(file_or_rule))
-    throw IoError(file_or_rule + ": no such file (nor a density rule: curvature, "
-                                 "distance-to:X,Y,Z,R[,D])");
+    throw IoError(file_or_rule +
+                  ": no such file (nor a density rule: curvature, "
+                  "distance-to:X,Y,Z,R[,D])");
   return read_density(file_or_rule, surface.points.size());
 }
 

@@ -255,8 +255,9 @@ ProgressCallback stderr_progress(const std::string& input, ProgressStyle style) 
 // Reads `job.input` (standard input for `-`, in `input_format`); errors name it as given.
 SurfaceInput read_input(const Job& job, const Settings& settings) {
   SurfaceInput surface;
-  with_input_file(job.input, settings.input_format,
-                  [&](const std::string& path) { surface = read_with_density(path, settings.density); });
+  with_input_file(job.input, settings.input_format, [&](const std::string& path) {
+    surface = read_with_density(path, settings.density);
+  });
   return surface;
 }
 

@@ -159,9 +159,10 @@ TEST_F(DensityCli, FieldsAndFilesAreReadAndTheirErrorsNameTheFile) {
   write("four.xyz", "0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n");
   SurfaceInput read = read_surface_as_stored(path("four.xyz"), "density");
   EXPECT_EQ(read.density, (std::vector<double>{1, 2, 3, 4}));
-  write("four.ply",
-        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-        "property float z\nproperty float weight\nend_header\n0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n");
+  write(
+      "four.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float weight\nend_header\n0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n");
   read = read_surface_as_stored(path("four.ply"), "weight");
   EXPECT_EQ(read.density, (std::vector<double>{1, 2, 3, 4}));
   try {

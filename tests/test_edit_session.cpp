@@ -418,9 +418,8 @@ TEST(EditSession, PaintedDensityDrawsSpheresAndUndoTakesItBack) {
   session->undo();
   session->undo();
   session->undo();
-  const EditSnapshot undone = wait_until(*session, [&](const EditSnapshot& s) {
-    return s.density_changes > painted.density_changes;
-  });
+  const EditSnapshot undone = wait_until(
+      *session, [&](const EditSnapshot& s) { return s.density_changes > painted.density_changes; });
   EXPECT_FALSE(undone.density);
   EXPECT_THROW(session->paint_density(-1, 0.3, 1.0), InvalidArgument);
   EXPECT_THROW(session->paint_density(top, 0.0, 1.0), InvalidOption);

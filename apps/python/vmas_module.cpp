@@ -272,11 +272,12 @@ std::vector<double> density_of(const py::handle& value, const SurfaceInput& surf
     density = cli::density_of(path_of(value), surface);
   } else {
     const py::array array = py::array::ensure(value);
-    if (!array || array.ndim() != 1 || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' &&
-                                        array.dtype().kind() != 'u'))
-      throw py::type_error("density must be one number per point (an (N,) array), a rule "
-                           "('curvature', 'distance-to:X,Y,Z,R[,D]') or a file's path (got " +
-                           type_name(value) + ")");
+    if (!array || array.ndim() != 1 ||
+        (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u'))
+      throw py::type_error(
+          "density must be one number per point (an (N,) array), a rule "
+          "('curvature', 'distance-to:X,Y,Z,R[,D]') or a file's path (got " +
+          type_name(value) + ")");
     const auto numbers = py::array_t<double, py::array::forcecast>::ensure(array);
     const auto view = numbers.unchecked<1>();
     density.assign(view.data(0), view.data(0) + view.shape(0));
@@ -293,8 +294,9 @@ Call call_of(const std::string& caller, const py::object& points, const py::obje
   for (const auto& [key, value] : options) {
     const std::string name = py::str(key);
     if (name == "density_field")
-      throw py::type_error(caller + "() takes no density_field: read it with "
-                                    "vmas.read(path, density_field=NAME)");
+      throw py::type_error(caller +
+                           "() takes no density_field: read it with "
+                           "vmas.read(path, density_field=NAME)");
     if (name == "density")
       density = py::reinterpret_borrow<py::object>(value);
     else
@@ -630,7 +632,8 @@ void def_shapes(py::module_& m) {
           "density",
           [](const SurfaceInput& s) -> py::object {
             if (s.density.empty()) return py::none();
-            return py::array_t<double>(static_cast<py::ssize_t>(s.density.size()), s.density.data());
+            return py::array_t<double>(static_cast<py::ssize_t>(s.density.size()),
+                                       s.density.data());
           },
           "(N,) float64, or None (uniform)")
       .def("__repr__", [](const SurfaceInput& s) {
@@ -1007,7 +1010,8 @@ void def_io_and_evaluate(py::module_& m) {
       "read",
       [](const py::object& path, const py::object& density_field) {
         const std::string file = path_of(path);
-        const std::string field = density_field.is_none() ? "" : std::string(py::str(density_field));
+        const std::string field =
+            density_field.is_none() ? "" : std::string(py::str(density_field));
         py::gil_scoped_release released;
         return cli::read_with_density(file, cli::DensitySource{{}, field});
       },

@@ -31,10 +31,11 @@ struct CleanReport {
 // Removes points with a NaN coordinate (scanners' "no point here"), merges exact duplicates
 // (remapping faces), drops degenerate faces and, for meshes, unreferenced vertices. Normals are
 // renormalised; a point whose normal is NaN, infinite or zero keeps its place with a NaN normal
-// (preparation estimates it; when no point has one, the cloud has no normals). Faces with area below 1e-14 * (bbox diagonal)^2 are degenerate. Kept
-// points stay in input order, each duplicate group keeping its first point (with the group's mean density).
-// Throws InvalidInput if `normals` or `density` is neither empty nor one per point, or if a coordinate is
-// infinite or beyond +-1e150 (squared distances would overflow).
+// (preparation estimates it; when no point has one, the cloud has no normals). Faces with area
+// below 1e-14 * (bbox diagonal)^2 are degenerate. Kept points stay in input order, each duplicate
+// group keeping its first point (with the group's mean density). Throws InvalidInput if `normals`
+// or `density` is neither empty nor one per point, or if a coordinate is infinite or beyond +-1e150
+// (squared distances would overflow).
 CleanReport clean_surface(SurfaceInput& surface);
 
 // What makes a mesh a poor description of a solid, counted over its (undirected) edges.

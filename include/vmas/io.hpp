@@ -32,8 +32,7 @@ SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr
 // With `density_field`, the points' density (SurfaceInput::density) from that PLY vertex property
 // or PCD field, or from the last of 4 or 7 columns of an .xyz/.txt (IoError when it has none, or
 // for .off and .obj, which hold none).
-SurfaceInput read_surface_as_stored(const std::string& path,
-                                    const std::string& density_field = {});
+SurfaceInput read_surface_as_stored(const std::string& path, const std::string& density_field = {});
 
 // A density (SurfaceInput::density) for an input of `points` points from a text file of one value
 // per line, in the input's order ('#' comments and blank lines skipped). Throws IoError naming the

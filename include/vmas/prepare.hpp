@@ -86,7 +86,7 @@ struct PrepareReport {
   std::size_t smoothed_thinned_from = 0;  // smoothed clouds: points before thin_smoothed_cloud
                                           // (0: not thinned)
   double smoothed_voxel = 0.0;            // edge of that thinning's grid (absolute)
-  bool density_given = false;   // the surface had a density (SurfaceInput::density): its
+  bool density_given = false;             // the surface had a density (SurfaceInput::density): its
   double density_low = 0.0, density_high = 0.0;  // least and largest value
   std::size_t outliers = 0;     // points dropped as strays or as the noise's fringe
   std::size_t stray_clusters = 0;  // groups of points apart from the object, removed (their

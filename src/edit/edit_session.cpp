@@ -6,8 +6,8 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
-#include <thread>
 #include <string>
+#include <thread>
 
 #include "eval/envelope.hpp"
 #include "vmas/error.hpp"
@@ -387,9 +387,8 @@ bool EditSession::Impl::apply_one(const Edit& edit) {
     case Edit::Kind::PaintDensity:
       return paint_density(edit.value, edit.number, edit.amount);
     case Edit::Kind::SetDensity:
-      use_density(edit.density.empty()
-                      ? nullptr
-                      : std::make_shared<const std::vector<double>>(edit.density));
+      use_density(edit.density.empty() ? nullptr
+                                       : std::make_shared<const std::vector<double>>(edit.density));
       return true;
     case Edit::Kind::Undo:
     case Edit::Kind::Redo:

@@ -181,7 +181,8 @@ PcdColumns pcd_columns(const std::string& path, const std::vector<PcdField>& fie
     columns.fields[6] = find(density_field);
     if (!columns.fields[6]) {
       std::string names;
-      for (const PcdField& field : fields) names += (names.empty() ? "" : " ") + std::string(field.name);
+      for (const PcdField& field : fields)
+        names += (names.empty() ? "" : " ") + std::string(field.name);
       fail(path, "no field " + quote(density_field) + " for the density (fields: " + names + ")");
     }
   }

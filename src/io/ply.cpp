@@ -293,8 +293,8 @@ SurfaceInput parse_ply_surface(const std::string& path, std::string_view bytes,
       std::string names;
       for (const PlyProperty& property : vertex->properties)
         if (!property.is_list) names += (names.empty() ? "" : " ") + property.name;
-      fail(path, "no vertex property " + quote(density_field) + " for the density (properties: " +
-                     names + ")");
+      fail(path, "no vertex property " + quote(density_field) +
+                     " for the density (properties: " + names + ")");
     }
     surface.density = density->values;
   }

@@ -6,13 +6,13 @@
 #include <limits>
 #include <string>
 
+#include "core/density_mean.hpp"
+#include "core/stopwatch.hpp"
+#include "core/validate_member.hpp"
 #include "optimise/connectivity.hpp"
 #include "optimise/partition.hpp"
 #include "optimise/split.hpp"
-#include "core/density_mean.hpp"
-#include "core/stopwatch.hpp"
 #include "optimise/update.hpp"
-#include "core/validate_member.hpp"
 #include "vmas/error.hpp"
 #include "vmas/prepare.hpp"
 #include "vmas/topology.hpp"
@@ -140,7 +140,8 @@ bool Skeletonizer::reseed_tiny_clusters(bool serving_balls_only) {
 int Skeletonizer::worst_vertex(int cluster) const {
   int worst = members_[cluster].front();
   for (int v : members_[cluster])
-    if (vertex_energies_[v] * shape_.error_weight(v) > vertex_energies_[worst] * shape_.error_weight(worst))
+    if (vertex_energies_[v] * shape_.error_weight(v) >
+        vertex_energies_[worst] * shape_.error_weight(worst))
       worst = v;
   return worst;
 }
@@ -280,7 +281,7 @@ int Skeletonizer::split() {
     // Between E(C) (eq. 12), which the paper ranks by, and the worst vertex: ε is a Hausdorff
     // distance, and a well fitted cluster can still leave a tip uncovered. Their geometric mean
     // did best on the benchmark (docs/design.md, "Where vmas departs from the paper"). Both
-    // weighted by the density squared ("Density").
+    // weighted by the density ("Density").
     rank[c] = std::sqrt(split_error(c) * worst_errors_[c]);
   }
   // A perfectly fitted cluster (rank 0) must still be able to split when spheres are missing.

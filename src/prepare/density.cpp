@@ -1,8 +1,8 @@
 // Density fields: checking one given per point, and making one by a rule (vmas/prepare.hpp).
 #include <algorithm>
 #include <charconv>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -53,8 +53,9 @@ std::vector<double> curvature_density(const std::vector<Vec3>& points) {
     }
   }
   std::vector<double> sorted = variation;
-  const auto at = sorted.begin() + static_cast<std::ptrdiff_t>((1.0 - kMostCurvedShare) *
-                                                               static_cast<double>(sorted.size() - 1));
+  const auto at =
+      sorted.begin() + static_cast<std::ptrdiff_t>((1.0 - kMostCurvedShare) *
+                                                   static_cast<double>(sorted.size() - 1));
   std::nth_element(sorted.begin(), at, sorted.end());
   const double most_curved = *at;
   if (!(most_curved > 0.0)) return density;  // flat (or nearly) everywhere
@@ -123,8 +124,8 @@ std::vector<double> density_by_rule(const SurfaceInput& surface, const std::stri
   if (rule == "curvature") return curvature_density(surface.points);
   if (rule.compare(0, distance.size(), distance) == 0)
     return distance_density(surface.points, rule, rule.substr(distance.size()));
-  throw InvalidOption("density", "'" + rule +
-                                     "' is no density rule (curvature, distance-to:X,Y,Z,R[,D])");
+  throw InvalidOption("density",
+                      "'" + rule + "' is no density rule (curvature, distance-to:X,Y,Z,R[,D])");
 }
 
 }  // namespace vmas
