@@ -515,8 +515,14 @@ int edit_command(int argc, const char* const* argv) {
     throw IoError(std::string(kThreeDirectory) +
                   "/three.min.js: not found (the page needs Debian's libjs-three)");
 
-  // Listening first: a port in use or a foreign address fails before the input is prepared.
-  HttpServer server;
+  SurfaceInput stored = read_with_density(input, run_values.density);
+  const std::size_t input_rows = stored.points.size();
+  // Listening first: a port in use or a foreign address fails before the input is prepared. A
+  // body may hold a density file of the input (density-load): room for 32 bytes a row, JSON's
+  // escapes included (numpy's savetxt writes 25).
+  HttpLimits limits;
+  limits.body_bytes += 32 * input_rows;
+  HttpServer server(limits);
   const std::string token = random_token();
   std::atomic<int> pages{0};           // event streams open now
   std::atomic<bool> page_seen{false};  // ... and ever
@@ -528,10 +534,8 @@ int edit_command(int argc, const char* const* argv) {
   }
   const std::string url_host = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string origin = "http://" + url_host + ":" + std::to_string(bound);
-  SurfaceInput stored = read_with_density(input, run_values.density);
   SurfaceInput as_eval_reads = stored;
   clean_surface(as_eval_reads);
-  const std::size_t input_rows = stored.points.size();
   PreparedShape prepared = prepare_shape(std::move(stored), run_values.options);
   std::vector<int> vertices(prepared.shape.size());
   std::iota(vertices.begin(), vertices.end(), 0);
@@ -561,9 +565,13 @@ int edit_command(int argc, const char* const* argv) {
     if (res.body.empty()) return res.json_error(404, "no such file: " + req.path);
     res.content_type = "text/javascript";
   });
+  // With the diagonal that relative lengths (the brush's radius, the error map) are fractions of,
+  // in the input's units.
+  const std::string diagonal = json(frame.scale * session.shape().diagonal).dump();
   server.route("GET", "/api/shape", [&](const HttpRequest&, HttpResponse& res) {
     res.content_type = "application/octet-stream";
     res.body = shape;
+    res.headers.emplace_back("X-Vmas-Diagonal", diagonal);
   });
   server.route("GET", "/api/labels", [&](const HttpRequest&, HttpResponse& res) {
     const EditSnapshot s = session.snapshot();

@@ -230,6 +230,23 @@ TEST_F(EditServer, TheDensityIsPaintedSavedAndLoadedByInputRow) {
   std::vector<float> density(3000);
   std::memcpy(density.data(), values->body.data(), values->body.size());
   EXPECT_FLOAT_EQ(density[0], 4.0f);
+  // The stroke reaches radius × the diagonal /api/shape gives, in its coordinates (the page's
+  // brush ring).
+  const auto shape = client_->Get(api("/api/shape").c_str());
+  ASSERT_TRUE(shape->has_header("X-Vmas-Diagonal"));
+  const double reach = 0.2 * std::stod(shape->get_header_value("X-Vmas-Diagonal"));
+  const auto* xyz = reinterpret_cast<const float*>(shape->body.data() + 8);
+  int inside = 0;
+  for (std::size_t v = 0; v < density.size(); ++v) {
+    const double distance =
+        std::hypot(xyz[3 * v] - xyz[0], xyz[3 * v + 1] - xyz[1], xyz[3 * v + 2] - xyz[2]);
+    if (distance < 0.99 * reach) {
+      ++inside;
+      EXPECT_GT(density[v], 1.0f) << v;
+    }
+    if (distance > 1.01 * reach) EXPECT_EQ(density[v], 1.0f) << v;
+  }
+  EXPECT_GT(inside, 100);
   // Saved by input row (3001 lines, the duplicate 1), loaded again as it was.
   const auto file = client_->Get(api("/api/density-file").c_str());
   ASSERT_EQ(file->status, 200);
@@ -245,6 +262,18 @@ TEST_F(EditServer, TheDensityIsPaintedSavedAndLoadedByInputRow) {
   std::memcpy(reloaded.data(), loaded->body.data(), loaded->body.size());
   for (std::size_t v = 0; v < density.size(); ++v)
     ASSERT_NEAR(reloaded[v], density[v], 1e-6 * density[v]) << v;  // 9 digits in the file
+  // A file over 64 KB (numpy's savetxt: 25 bytes a row) is taken: the body limit grows with
+  // the input.
+  std::string long_rows;
+  for (int row = 0; row < 3001; ++row) long_rows += "2.000000000000000000e+00\n";
+  const auto long_file = edit({{"op", "density-load"}, {"text", long_rows}});
+  ASSERT_TRUE(long_file);
+  EXPECT_EQ(long_file->status, 200) << long_file->body;
+  state_when([](const json& state) { return state["density_changes"] == 4; });
+  const auto doubled = client_->Get(api("/api/density").c_str());
+  std::vector<float> twos(3000);
+  std::memcpy(twos.data(), doubled->body.data(), doubled->body.size());
+  EXPECT_EQ(std::count(twos.begin(), twos.end(), 2.0f), 3000);
   const auto bad = edit({{"op", "density-load"}, {"text", "1\n2\n"}});
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);

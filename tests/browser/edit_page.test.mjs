@@ -9,7 +9,11 @@
 // one in front, a clicked sphere gains an outline and keeps its palette colour (frozen: a dashed
 // one), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
 // point ringed (on a mesh, on an opaque surface: a second vmas), W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
-// .ma file, ? shows and hides the help, the panel folds away and back, P and M toggle the points
+// .ma file, B turns the density brush on (the points coloured by density, a legend, a ring as wide
+// as a stroke reaches), a click paints a stroke that /api/density shows and Ctrl-Z takes back, a
+// drag paints throttled strokes (shift: taking away) while only the right button turns the view,
+// save density downloads a line per input point, reset and load density (a bad file refused, said
+// on the page), ? shows and hides the help, the panel folds away and back, P and M toggle the points
 // and the medial mesh (I says a point cloud has no surface), the sliders set the count and λ,
 // the screenshot button and K download a PNG, at 800 × 600 the folded panel leaves the model's
 // centre uncovered, and Ctrl-C (SIGINT) stops vmas with exit code 0.
@@ -259,6 +263,11 @@ async function main() {
     'E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both',
     'on a mesh, E shows the map on an opaque surface',
     'W saves the skeleton and downloads it', 'the .ma button downloads the skeleton as a .ma file',
+    'B turns the density brush on: the points coloured by density, its legend, the hint, a ring as wide as a stroke reaches',
+    'a click paints one stroke there (no selection), /api/density and the colours follow; Ctrl-Z takes it back',
+    'a drag paints a stroke per half radius moved, a few a second; shift-drag takes away; only the right button turns the view',
+    'save density downloads a line per input point; reset density makes it uniform; load density brings it back, a bad file is refused',
+    'B turns the brush off: cluster colours, no legend, no ring, the left button turns the view',
     '? shows the help overlay and hides it again', 'the panel folds away and back',
     'P, M and I toggle points, medial mesh and surface, the buttons show it; V fits the view', 'the sliders set the count and λ',
     'the screenshot button downloads a PNG',
@@ -1094,13 +1103,221 @@ async function main() {
     return `${spheres} spheres`;
   });
 
+  // --- the density brush ------------------------------------------------------------------------
+  const apiUrl = (route) => `${new URL(route, url).href}?token=${new URL(url).searchParams.get('token')}`;
+  // The density vmas holds now, fetched by the test: a float32 per vertex and its count of changes.
+  const densityNow = async () => {
+    const reply = await fetch(apiUrl('api/density'));
+    if (!reply.ok) fail(`/api/density answered ${reply.status}`);
+    return { values: new Float32Array(await reply.arrayBuffer()), changes: Number(reply.headers.get('x-vmas-density-changes')) };
+  };
+  // Waits until the page shows the density of change CHANGES (it refetches when its events say so).
+  const waitForDensity = (changes, what) => page.waitForFunction((n) => state.densityOf === n, changes, { timeout: WAIT_MS })
+    .catch(async () => fail(`${what}: the page shows the density of change ${await page.evaluate(() => state.densityOf)}, not ${changes}`));
+  // Whether every point has the density map's colour for VALUE (the scale's top: 2 or the largest).
+  const allColoured = (value) => page.evaluate((value) => {
+    const expected = mapColor(value, Math.max(2, state.largestDensity), new THREE.Color()).toArray();
+    return pointCloud.geometry.attributes.color.array.every((c, i) => Math.abs(c - expected[i % 3]) < 1e-6);
+  }, value);
+  // The replies to the edits of EDITS (collectEdits), each checked.
+  const replied = async (edits) => {
+    for (const r of edits) {
+      const reply = await r.response();
+      if (!reply.ok()) fail(`${r.postData()} refused: ${reply.status()} ${await reply.text()}`);
+    }
+  };
+  let brushAt = null;  // a point under the mouse, and where: the strokes start there
+
+  await check('B turns the density brush on: the points coloured by density, its legend, the hint, a ring as wide as a stroke reaches', async () => {
+    const shape = await fetch(apiUrl('api/shape'));
+    const diagonal = Number(shape.headers.get('x-vmas-diagonal'));
+    await shape.arrayBuffer();
+    const fetched = page.waitForResponse((r) => new URL(r.url()).pathname === '/api/density', { timeout: WAIT_MS });
+    await page.keyboard.press('b');
+    if (!(await fetched).ok()) fail('the page\'s /api/density failed');
+    await page.waitForFunction(() => state.density && getComputedStyle(document.getElementById('legend')).display !== 'none');
+    const shown = await page.evaluate(() => ({
+      pressed: document.getElementById('brush').getAttribute('aria-pressed'), brushing: document.body.classList.contains('brushing'),
+      title: document.getElementById('legend-title').textContent, middle: document.getElementById('legend-middle').textContent,
+      largest: document.getElementById('legend-largest').textContent, unit: state.lengthUnit }));
+    if (shown.pressed !== 'true' || !shown.brushing) fail(`after B the brush button is aria-pressed=${shown.pressed}, body.brushing ${shown.brushing}`);
+    if (!/^density/.test(shown.title) || shown.middle !== '1.00' || shown.largest !== '2.00')
+      fail(`the legend says '${shown.title}', 0 … ${shown.middle} … ${shown.largest} (uniform: 0 … 1.00 … 2.00)`);
+    if (!(await allColoured(1))) fail('with a uniform density, not every point has the middle colour of the scale');
+    const hint = await page.locator('#hint').innerText();
+    if (!/^density brush: click or drag paints/.test(hint)) fail(`the hint says '${hint}'`);
+    if (!(diagonal > 0) || shown.unit !== diagonal) fail(`the page's length unit is ${shown.unit}, /api/shape's X-Vmas-Diagonal ${diagonal}`);
+    // The ring: at the hovered point, as wide as the brush's radius of vmas's diagonal.
+    const list = await positions();
+    while (list.length && !brushAt) {
+      const [x, y] = list.shift();
+      await page.mouse.move(x, y);
+      const vertex = await page.evaluate(() => state.hoveredVertex);
+      if (vertex >= 0) brushAt = { vertex, x, y };
+    }
+    if (!brushAt) fail('no position on the canvas hovers a point');
+    const ring = await page.evaluate((v) => ({ visible: brushRing.visible, radius: brushRing.scale.x,
+      off: brushRing.position.distanceTo(new THREE.Vector3().fromArray(state.points, 3 * v)) }), brushAt.vertex);
+    if (!ring.visible || Math.abs(ring.radius - 0.05 * diagonal) > 1e-6 * diagonal || ring.off > 1e-6)
+      fail(`the ring: ${JSON.stringify(ring)}; the brush reaches ${0.05 * diagonal} around point ${brushAt.vertex}`);
+    noPageErrors();
+    return `legend '${shown.title}' 0 … ${shown.middle} … ${shown.largest}; ring of ${ring.radius.toFixed(4)} at point ${brushAt.vertex}`;
+  });
+
+  await check('a click paints one stroke there (no selection), /api/density and the colours follow; Ctrl-Z takes it back', async () => {
+    const before = await densityNow();
+    if (!before.values.every((d) => d === 1)) fail('the density is not uniform before the first stroke');
+    const request = nextEdit('density', WAIT_MS);
+    await page.mouse.click(brushAt.x, brushAt.y);
+    const sent = await request;
+    if (!sent) fail('a click with the brush sent no density edit');
+    const body = sent.postDataJSON();
+    if (body.vertex !== brushAt.vertex || body.radius !== 0.05 || body.amount !== 1)
+      fail(`the click sent ${sent.postData()}; point ${brushAt.vertex} is under the mouse, the sliders say radius 0.05, strength 1`);
+    await replied([sent]);
+    if (selection(await statusText()).count) fail(`a click with the brush selected: '${await statusText()}'`);
+    await waitForDensity(before.changes + 1, 'after the stroke');
+    const painted = await densityNow();
+    const changed = painted.values.filter((d) => d !== 1).length;
+    if (painted.changes !== before.changes + 1 || Math.abs(painted.values[brushAt.vertex] - 2) > 1e-6 || changed < 2)
+      fail(`after the stroke: density ${painted.values[brushAt.vertex]} at point ${brushAt.vertex} (2 expected), ${changed} points changed, ` +
+           `changes ${before.changes} → ${painted.changes}`);
+    const colours = await page.evaluate((v) => ({
+      point: Array.from(pointCloud.geometry.attributes.color.array.slice(3 * v, 3 * v + 3)),
+      top: mapColor(2, 2, new THREE.Color()).toArray(), largest: document.getElementById('legend-largest').textContent }), brushAt.vertex);
+    if (colours.point.some((c, i) => Math.abs(c - colours.top[i]) > 1e-6) || colours.largest !== '2.00')
+      fail(`point ${brushAt.vertex}, of density 2, is coloured ${colours.point} (the scale's top: ${colours.top}); legend up to ${colours.largest}`);
+    await page.keyboard.press('Control+z');
+    await waitForDensity(before.changes + 2, 'after Ctrl-Z');
+    const undone = await densityNow();
+    if (undone.changes !== before.changes + 2 || !undone.values.every((d) => d === 1))
+      fail(`after Ctrl-Z: changes ${undone.changes}, ${undone.values.filter((d) => d !== 1).length} points not back to 1`);
+    if (!(await allColoured(1))) fail('after Ctrl-Z the points are not all of the uniform colour');
+    noPageErrors();
+    return `point ${brushAt.vertex}: 2 at the centre, ${changed} points painted; Ctrl-Z: all 1 again, density_changes ${before.changes} → ${undone.changes}`;
+  });
+
+  await check('a drag paints a stroke per half radius moved, a few a second; shift-drag takes away; only the right button turns the view', async () => {
+    const cameraAt = () => page.evaluate(() => camera.position.toArray().map((v) => v.toFixed(6)).join(' '));
+    const fitted = await cameraAt();
+    const before = (await densityNow()).changes;
+    // Down from the point (across the torus's near side), then back with Shift.
+    const drag = async (from, to, shift) => {
+      const edits = collectEdits('density');
+      const started = Date.now();
+      if (shift) await page.keyboard.down('Shift');
+      try {
+        await page.mouse.move(from.x, from.y);
+        await page.mouse.down();
+        for (let step = 1; step <= 10; ++step) {
+          await page.mouse.move(from.x + (to.x - from.x) * step / 10, from.y + (to.y - from.y) * step / 10);
+          await page.waitForTimeout(60);
+        }
+        await page.waitForTimeout(150);  // a look at where it ends
+        await page.mouse.up();
+      } finally {
+        if (shift) await page.keyboard.up('Shift');
+        edits.stop();
+      }
+      await replied(edits.sent);
+      return { bodies: edits.sent.map((r) => r.postDataJSON()), ms: Date.now() - started };
+    };
+    const below = { x: brushAt.x, y: brushAt.y + 100 };
+    const paint = await drag(brushAt, below, false), takeAway = await drag(below, brushAt, true);
+    if (await cameraAt() !== fitted) fail('a drag with the brush turned the view');
+    // Each stroke half a radius (of vmas's diagonal) or more from the one before, at most one per 100 ms.
+    const gaps = await page.evaluate((bodies) => bodies.slice(1).map((b, i) =>
+      new THREE.Vector3().fromArray(state.points, 3 * b.vertex).distanceTo(new THREE.Vector3().fromArray(state.points, 3 * bodies[i].vertex)) /
+      (b.radius * state.lengthUnit)), paint.bodies);
+    if (paint.bodies.length < 2) fail(`a 100 px drag over the points sent ${paint.bodies.length} stroke(s)`);
+    if (paint.bodies.length > paint.ms / 100 + 1) fail(`${paint.bodies.length} strokes in a drag of ${paint.ms} ms`);
+    if (gaps.some((gap) => gap < 0.5)) fail(`strokes closer than half a radius: ${gaps.map((g) => g.toFixed(2))} radii apart`);
+    if (paint.bodies.some((b) => b.amount !== 1)) fail(`the drag sent ${JSON.stringify(paint.bodies)}`);
+    if (!takeAway.bodies.length || takeAway.bodies.some((b) => b.amount !== -1)) fail(`the shift-drag sent ${JSON.stringify(takeAway.bodies)}`);
+    await waitForDensity(before + paint.bodies.length + takeAway.bodies.length, 'after the drags');
+    // The right button turns the view; V brings it back.
+    await page.mouse.move(brushAt.x, brushAt.y);
+    await page.mouse.down({ button: 'right' });
+    await page.mouse.move(brushAt.x + 60, brushAt.y + 20, { steps: 4 });
+    await page.mouse.up({ button: 'right' });
+    const turned = await cameraAt() !== fitted;
+    await page.keyboard.press('v');
+    if (!turned) fail('a right-drag with the brush did not turn the view');
+    noPageErrors();
+    return `${paint.bodies.length} strokes in ${paint.ms} ms, ${gaps.map((g) => g.toFixed(2))} radii apart; ` +
+           `the shift-drag ${takeAway.bodies.length} of amount -1`;
+  });
+
+  await check('save density downloads a line per input point; reset density makes it uniform; load density brings it back, a bad file is refused', async () => {
+    const painted = await densityNow();
+    const download = page.waitForEvent('download', { timeout: WAIT_MS });
+    await page.click('#density-save');
+    const file = await download;
+    if (file.suggestedFilename() !== 'torus_density.txt') fail(`the density downloads as '${file.suggestedFilename()}', not torus_density.txt`);
+    const saved = path.join(tmp, 'torus_density.txt');
+    await file.saveAs(saved);
+    const lines = fs.readFileSync(saved, 'latin1').trimEnd().split('\n');
+    if (lines.length !== POINTS) fail(`the density file has ${lines.length} lines for ${POINTS} input points`);
+    const paintedLines = lines.filter((line) => Number(line) !== 1).length;
+    if (!paintedLines || lines.some((line) => !(Number(line) >= 0))) fail(`the density file's lines: ${lines.slice(0, 5).join(', ')}, …`);
+    const reset = nextEdit('density-reset', WAIT_MS);
+    await page.click('#density-reset');
+    await replied([await reset]);
+    await waitForDensity(painted.changes + 1, 'after reset density');
+    if (!(await densityNow()).values.every((d) => d === 1)) fail('after reset density, the density is not 1 everywhere');
+    if (!(await allColoured(1))) fail('after reset density the points are not all of the uniform colour');
+    // The button opens a file chooser; the file goes to vmas whole.
+    const load = async (file) => {
+      const chooser = page.waitForEvent('filechooser', { timeout: WAIT_MS });
+      const request = nextEdit('density-load', WAIT_MS);
+      await page.click('#density-load');
+      await (await chooser).setFiles(file);
+      const sent = await request;
+      if (!sent) fail(`loading ${file} sent no density-load edit`);
+      return { sent, reply: await sent.response() };
+    };
+    const loaded = await load(saved);
+    if (!loaded.reply.ok()) fail(`density-load refused: ${loaded.reply.status()} ${await loaded.reply.text()}`);
+    await waitForDensity(painted.changes + 2, 'after load density');
+    const back = await densityNow();
+    const off = back.values.reduce((most, d, v) => Math.max(most, Math.abs(d - painted.values[v]) / Math.max(painted.values[v], 1)), 0);
+    if (off > 1e-6) fail(`the loaded density differs from the saved one by up to ${off} (relative)`);
+    const said = await page.textContent('#message');
+    if (said !== 'density loaded from torus_density.txt') fail(`after loading, #message says '${said}'`);
+    const bad = path.join(tmp, 'bad_density.txt');
+    fs.writeFileSync(bad, '1\n2\n');
+    noPageErrors();
+    const refused = await load(bad);
+    if (refused.reply.status() !== 400) fail(`a 2-line density file got ${refused.reply.status()}`);
+    await page.waitForFunction(() => /^refused: density file: 2 density values/.test(document.getElementById('message').textContent))
+      .catch(async () => fail(`after a bad density file, #message says '${await page.textContent('#message')}'`));
+    // The browser logs the refusal (a 400) as a console error: that one is expected.
+    if (pageErrors.length === 1 && /status of 400 .*\/api\/edit/.test(pageErrors[0])) pageErrors.pop();
+    noPageErrors();
+    return `${lines.length} lines, ${paintedLines} painted; loaded back within ${off.toExponential(1)} ` +
+           `(${Math.round(loaded.sent.postData().length / 1024)} KB sent); '${await page.textContent('#message')}'`;
+  });
+
+  await check('B turns the brush off: cluster colours, no legend, no ring, the left button turns the view', async () => {
+    await page.keyboard.press('b');
+    await nextFrame();
+    const off = await page.evaluate(() => ({
+      map: state.map, brushing: document.body.classList.contains('brushing'), ring: brushRing.visible,
+      left: controls.mouseButtons.LEFT === THREE.MOUSE.ROTATE, pressed: document.getElementById('brush').getAttribute('aria-pressed') }));
+    if (off.map !== null || off.brushing || off.ring || !off.left || off.pressed !== 'false') fail(`after a second B: ${JSON.stringify(off)}`);
+    if (await shown('#legend')) fail('the legend is still shown after a second B');
+    if (await allColoured(1)) fail('after a second B the points keep the density\'s colour');
+    noPageErrors();
+    return JSON.stringify(off);
+  });
+
   // --- the help overlay, the panel's fold, the toggles, the screenshot button ------------------
   await check('? shows the help overlay and hides it again', async () => {
     if (await shown('#help')) fail('the help overlay is shown before ? is pressed');
     await page.keyboard.press('Shift+Slash');  // '?'
     if (!(await shown('#help'))) fail('? did not show #help');
     const keysListed = (await page.locator('#help kbd').allTextContents()).map((k) => k.trim());
-    for (const key of ['Enter', 'W'])
+    for (const key of ['Enter', 'W', 'B'])
       if (!keysListed.includes(key)) fail(`the help lists no key ${key}: ${JSON.stringify(keysListed)}`);
     const help = await page.locator('#help').boundingBox();
     await page.keyboard.press('Shift+Slash');
