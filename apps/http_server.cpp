@@ -140,10 +140,6 @@ struct HttpServer::State {
   }
 
   void respond(const HttpRequest& request, HttpResponse& response) {
-    if (guard && !guard(request, response)) {
-      response.close = true;
-      return;
-    }
     for (const Route& route : routes)
       if (route.matches(request)) {
         try {
@@ -214,8 +210,15 @@ struct HttpServer::State {
       parser.header_limit(static_cast<std::uint32_t>(limits.header_bytes));
       parser.body_limit(limits.body_bytes);
       boost::system::error_code error;
-      http::read(socket, buffer, parser, error);
       HttpResponse response;
+      // The guard sees the header before the body is read: a client it refuses never makes the
+      // server hold a body (their limit grows with the input: a density file by input point).
+      http::read_header(socket, buffer, parser, error);
+      if (!error && guard && !guard(to_request(parser.get()), response)) {
+        write(socket, *connection, response, false);
+        break;
+      }
+      if (!error && !parser.is_done()) http::read(socket, buffer, parser, error);
       if (error == http::error::body_limit) {
         response.json_error(413,
                             "request body over " + std::to_string(limits.body_bytes) + " bytes");

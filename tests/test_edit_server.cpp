@@ -510,7 +510,7 @@ class RawClient {
 
 // Slow and hostile clients hold a connection each, never the server: the page is served while
 // 100 of them sit on half-sent headers, a request without the token gets its 403 and the
-// connection closed, a header that never arrives whole is cut off, and Ctrl-C stops the server
+// connection closed (before its body), a header that never arrives whole is cut off, and Ctrl-C stops the server
 // whatever the clients do. (How fast: scripts/test-browser prints the figures.)
 TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
   write_surface(path("ball.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
@@ -532,6 +532,12 @@ TEST_F(EditServer, SlowAndHostileClientsDoNotHoldTheServer) {
   const std::string refused = stranger.receive(std::chrono::seconds(3));
   EXPECT_EQ(refused.rfind("HTTP/1.1 403", 0), 0u) << refused;
   EXPECT_TRUE(stranger.closed()) << "a connection without the token stays open";
+  // ... refused on its header: the body it announces is never waited for.
+  RawClient poster(port_);
+  ASSERT_TRUE(poster.send("POST /api/edit HTTP/1.1\r\nHost: x\r\nContent-Length: 50000\r\n\r\n"));
+  const std::string refused_post = poster.receive(std::chrono::seconds(3));
+  EXPECT_EQ(refused_post.rfind("HTTP/1.1 403", 0), 0u) << refused_post;
+  EXPECT_TRUE(poster.closed());
 
   // One byte a second, never a whole header: the server closes the connection, unanswered
   // (the loop gives up after 15 bytes, well past the server's 10 s).
