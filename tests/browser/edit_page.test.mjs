@@ -280,7 +280,9 @@ async function main() {
     if (!fs.existsSync(vmasBinary)) fail(`no vmas binary at ${vmasBinary} (build it: scripts/build)`);
     writeTorus(input, POINTS);
     // No -o: saving downloads (writing OUTPUT too is tested by the C++ suite, EditServer).
-    vmas = spawn(vmasBinary, ['edit', input, '--spheres', String(SPHERES), '--threads', '2'],
+    // Eight starts: the untouched session's first finish runs eight fresh skeletonizations, one
+    // after the other (seconds), so that the check of a finish under way finds it under way.
+    vmas = spawn(vmasBinary, ['edit', input, '--spheres', String(SPHERES), '--threads', '2', '--starts', '8'],
                  { stdio: ['ignore', 'pipe', 'pipe'] });
     vmas.stderr.on('data', (chunk) => vmasStderr.push(chunk.toString()));
     const exited = new Promise((resolve) => vmas.on('exit', (code, signal) => {
