@@ -13,11 +13,11 @@ from . import cad, running
 from .running import evaluate, read_mesh, skeletonize
 
 DENSE = 4.0
-# (name, shape, the paper's count or another, the share of points on top made dense; None: the
-# curvature rule, dense where it gives at least DENSE_CURVED)
-CASES = (("armadillo, top 12 % (head, hands)", "meshes/armadillo.off", 83, 0.12),
-         ("merged bunny (scan) top", "scans/bunny_merged_45k.xyz", 100, 0.15),
-         ("stepped shaft (CAD), curvature", None, 60, None))
+# (file name, case, shape, the paper's count or another, the share of points on top made dense;
+# None: the curvature rule, dense where it gives at least DENSE_CURVED)
+CASES = (("armadillo", "armadillo, top 12 % (head, hands)", "meshes/armadillo.off", 83, 0.12),
+         ("bunny", "merged bunny (scan) top", "scans/bunny_merged_45k.xyz", 100, 0.15),
+         ("shaft", "stepped shaft (CAD), curvature", None, 60, None))
 DENSE_CURVED = 2.5
 
 
@@ -33,14 +33,14 @@ def _share(labels, dense, spheres):
 def density_section(args, results, save, log):
     work = os.path.join(args.out, "density")
     os.makedirs(work, exist_ok=True)
-    for name, relative, spheres, top in CASES:
+    for slug, name, relative, spheres, top in CASES:
         if relative:
             shape = os.path.join(args.data, relative)
             points = read_mesh(shape)[0]
             up = int(np.argmax(np.ptp(points, axis=0)))
             cut = np.quantile(points[:, up], 1.0 - top)
             dense = points[:, up] >= cut
-            density_file = os.path.join(work, name.split()[0] + ".density.txt")
+            density_file = os.path.join(work, slug + ".density.txt")
             np.savetxt(density_file, np.where(dense, DENSE, 1.0), fmt="%g")
             field = ("--density", density_file)
         else:
@@ -52,7 +52,7 @@ def density_section(args, results, save, log):
         row = {"case": name, "spheres": spheres, "dense_points": float(dense.mean())}
         for tag, extra in (("uniform", ()), ("density", field)):
             log(f"[density] {name}: {tag}")
-            ply = os.path.join(work, f"{name.split()[0]}.{tag}.ply")
+            ply = os.path.join(work, f"{slug}.{tag}.ply")
             labels_path = ply + ".labels"
             entry = skeletonize(args, shape, ply, spheres, extra=(*extra, "--labels", labels_path))
             if entry.get("error"):
