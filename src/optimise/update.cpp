@@ -29,8 +29,9 @@ namespace {
 // F(s) of one cluster, using the summed quadric for the SQEM part. When `hessian` is given, also
 // the normal equations of the step from s: the Euclidean residuals ‖p−q‖ − r linearised with the
 // unit directions u = (p − q)/‖p − q‖ frozen, i.e. ∇[½sᵀAs − bᵀs + λΣA(v)(uᵀp − ũᵀs)²] = 0 with
-// ũ = (u, 1).
-template <bool kNormalEquations>
+// ũ = (u, 1). kWeighted: each vertex's term times Shape::error_weight (a density; a template
+// parameter so that the loop without one stays as tight as it was).
+template <bool kNormalEquations, bool kWeighted>
 double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem& cluster_quadric,
                 const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
   const Vec3 center = s.head<3>();
@@ -38,11 +39,10 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
   // Local accumulators: through the pointers every term would be a load and a store.
   Eigen::Matrix4d h = cluster_quadric.A;
   Vec4 g = cluster_quadric.b;
-  const bool weighted = !shape.error_weights.empty();
   for (int v : members) {
     const Vec3 offset = shape.points[v] - center;
     const double length = offset.norm();
-    const double area = weighted ? shape.area[v] * shape.error_weight(v) : shape.area[v];
+    const double area = kWeighted ? shape.area[v] * shape.error_weights[v] : shape.area[v];
     euclidean += area * (length - s.w()) * (length - s.w());
     // A sample at the centre gives no direction.
     if (!kNormalEquations || !(length > 0.0)) continue;
@@ -61,8 +61,13 @@ double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem&
 
 double evaluate(const Shape& shape, const std::vector<int>& members, const Sqem& cluster_quadric,
                 const Vec4& s, double lambda, Eigen::Matrix4d* hessian, Vec4* rhs) {
-  return hessian ? evaluate<true>(shape, members, cluster_quadric, s, lambda, hessian, rhs)
-                 : evaluate<false>(shape, members, cluster_quadric, s, lambda, nullptr, nullptr);
+  if (!shape.error_weights.empty())
+    return hessian
+               ? evaluate<true, true>(shape, members, cluster_quadric, s, lambda, hessian, rhs)
+               : evaluate<false, true>(shape, members, cluster_quadric, s, lambda, nullptr, nullptr);
+  return hessian
+             ? evaluate<true, false>(shape, members, cluster_quadric, s, lambda, hessian, rhs)
+             : evaluate<false, false>(shape, members, cluster_quadric, s, lambda, nullptr, nullptr);
 }
 
 }  // namespace
