@@ -58,6 +58,40 @@ constexpr std::pair<const char*, const char*> kFieldFlags[] = {
     {"starts", "starts"},
     {"threads", "threads"}};
 
+// The options of add_run_options that say how the input is prepared (thinning, normals, strays,
+// mesh sampling, density, noise), in their place in --help.
+void add_preparation_options(po::options_description& visible, RunOptionValues& values) {
+  const Options defaults;
+  // clang-format off
+  visible.add_options()
+      ("max-points", po::value(&values.options.prepare.max_points)
+           ->default_value(defaults.prepare.max_points),
+       "a cloud with more points is thinned to about this many, one per voxel, for the run; "
+       "every point still gets a label (0: every point takes part)")
+      ("estimate-normals", "estimate normals even if the file has them")
+      ("keep-strays", "keep groups of points apart from the object (stray clusters of at most 1 % "
+       "of the points, several spacings from the rest), which are otherwise removed")
+      ("no-mesh-sampling", "keep a coarse mesh's vertices as they are; by default a mesh whose "
+       "vertices are too sparse for the method (long, thin faces) has its faces sampled")
+      ("density", po::value(&values.density.file_or_rule),
+       "where the skeleton should be finer: a text file of one value >= 0 per input point, in "
+       "the input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most "
+       "curved points) or distance-to:X,Y,Z,R[,D] (D, 4 unless given, within R of X,Y,Z; 1 "
+       "elsewhere). With --spheres the spheres gather where it is high (4: about 4x the spheres "
+       "per area of 1; 0: as few as the budget allows); with --error the threshold there is "
+       "divided by it")
+      ("density-field", po::value(&values.density.field),
+       "the density from the input itself: a PLY vertex property or PCD field of this name, or "
+       "the last column of an .xyz of 4 or 7 columns")
+      ("denoise", po::value(&values.denoise)->default_value("auto"),
+       "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
+       "points (moving least squares) before the run; off: take the points as they are; or the "
+       "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
+      ("orient-normals", "orient the file's normals consistently and outward instead of keeping "
+       "their signs (for normals with arbitrary signs, e.g. oriented towards a scanner)");
+  // clang-format on
+}
+
 }  // namespace
 
 std::string flag_of(const std::string& option) {
@@ -98,32 +132,9 @@ void add_run_options(po::options_description& visible, RunOptionValues& values) 
        "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
       ("normal-k", po::value(&values.options.prepare.normals.k)
            ->default_value(defaults.prepare.normals.k),
-       "neighbours used to estimate and orient normals of clouds that have none")
-      ("max-points", po::value(&values.options.prepare.max_points)
-           ->default_value(defaults.prepare.max_points),
-       "a cloud with more points is thinned to about this many, one per voxel, for the run; "
-       "every point still gets a label (0: every point takes part)")
-      ("estimate-normals", "estimate normals even if the file has them")
-      ("keep-strays", "keep groups of points apart from the object (stray clusters of at most 1 % "
-       "of the points, several spacings from the rest), which are otherwise removed")
-      ("no-mesh-sampling", "keep a coarse mesh's vertices as they are; by default a mesh whose "
-       "vertices are too sparse for the method (long, thin faces) has its faces sampled")
-      ("density", po::value(&values.density.file_or_rule),
-       "where the skeleton should be finer: a text file of one value >= 0 per input point, in "
-       "the input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most "
-       "curved points) or distance-to:X,Y,Z,R[,D] (D, 4 unless given, within R of X,Y,Z; 1 "
-       "elsewhere). With --spheres the spheres gather where it is high (4: about 4x the spheres "
-       "per area of 1; 0: as few as the budget allows); with --error the threshold there is "
-       "divided by it")
-      ("density-field", po::value(&values.density.field),
-       "the density from the input itself: a PLY vertex property or PCD field of this name, or "
-       "the last column of an .xyz of 4 or 7 columns")
-      ("denoise", po::value(&values.denoise)->default_value("auto"),
-       "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
-       "points (moving least squares) before the run; off: take the points as they are; or the "
-       "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
-      ("orient-normals", "orient the file's normals consistently and outward instead of keeping "
-       "their signs (for normals with arbitrary signs, e.g. oriented towards a scanner)")
+       "neighbours used to estimate and orient normals of clouds that have none");
+  add_preparation_options(visible, values);
+  visible.add_options()
       ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
       ("keep-cavities", "keep the triangles that close cavities of the skeleton (closed pockets "
        "of triangles that the medial axis of a solid never has), which are otherwise left out")
