@@ -15,7 +15,6 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
-#include <numeric>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
@@ -320,57 +319,39 @@ bool finish_and_wait(EditSession& session) {
   }
 }
 
-// A density by input row (the file `--density FILE` reads) and by shape vertex (the session's):
-// a vertex takes the mean of the rows it stands for, a row its vertex's value (1 for a row
-// preparation dropped, or a uniform density).
-class DensityRows {
- public:
-  DensityRows(std::vector<int> vertex_of_row, std::size_t vertices)
-      : vertex_of_row_(std::move(vertex_of_row)), vertices_(vertices) {}
-  // From a file's text; InvalidArgument naming the problem.
-  std::vector<double> to_vertices(const std::string& text) const {
-    std::vector<double> by_row;
-    try {
-      by_row = parse_density("density file", text, vertex_of_row_.size());
-      check_density(by_row, vertex_of_row_.size());
-    } catch (const IoError& e) {
-      throw InvalidArgument(e.what());
-    } catch (const InvalidInput& e) {
-      throw InvalidArgument(std::string("density file: ") + e.what());
-    }
-    std::vector<double> sum(vertices_, 0.0), count(vertices_, 0.0);
-    for (std::size_t row = 0; row < by_row.size(); ++row)
-      if (vertex_of_row_[row] >= 0) {
-        sum[vertex_of_row_[row]] += by_row[row];
-        count[vertex_of_row_[row]] += 1.0;
-      }
-    std::vector<double> by_vertex(vertices_, 1.0);  // a vertex no row stands for: uniform
-    for (std::size_t v = 0; v < vertices_; ++v)
-      if (count[v] > 0.0) by_vertex[v] = sum[v] / count[v];
-    return by_vertex;
+// A density file (by input row: what `--density FILE` reads) into the session's density (by
+// vertex), and back; InvalidArgument naming the problem.
+std::vector<double> density_from_file(const InputRows& rows, const std::string& text) {
+  std::vector<double> by_row;
+  try {
+    by_row = parse_density("density file", text, rows.rows());
+    check_density(by_row, rows.rows());
+  } catch (const IoError& e) {
+    throw InvalidArgument(e.what());
+  } catch (const InvalidInput& e) {
+    throw InvalidArgument(std::string("density file: ") + e.what());
   }
-  std::string to_text(const std::vector<double>* by_vertex) const {
-    std::string text;
-    char value[32];
-    for (int vertex : vertex_of_row_) {
-      std::snprintf(value, sizeof value, "%.9g\n",
-                    by_vertex && vertex >= 0 ? (*by_vertex)[vertex] : 1.0);
-      text += value;
-    }
-    return text;
-  }
+  return rows.by_vertex(by_row);
+}
 
- private:
-  std::vector<int> vertex_of_row_;
-  std::size_t vertices_;
-};
+std::string density_file(const InputRows& rows, const EditSnapshot& s) {
+  const std::vector<double> by_row =
+      s.density ? rows.by_row(*s.density) : std::vector<double>(rows.rows(), 1.0);
+  std::string text;
+  char value[32];
+  for (double d : by_row) {
+    std::snprintf(value, sizeof value, "%.9g\n", d);
+    text += value;
+  }
+  return text;
+}
 
 // One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
 // "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too; with
 // `finish_on_save` it finishes the skeleton first (unless it is finished already).
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
                 const std::string& download_name, const Frame& frame, bool finish_on_save,
-                Saved& saved, const DensityRows& rows) {
+                Saved& saved, const InputRows& rows) {
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
     throw InvalidOption("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
@@ -415,7 +396,7 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
   } else if (op == "density-reset") {
     session.set_density({});
   } else if (op == "density-load") {
-    session.set_density(rows.to_vertices(edit.at("text").get<std::string>()));
+    session.set_density(density_from_file(rows, edit.at("text").get<std::string>()));
   } else if (op == "save") {
     if (finish_on_save && !session.snapshot().finished && !finish_and_wait(session))
       throw InvalidArgument("the skeleton could not be finished before saving");
@@ -537,12 +518,8 @@ int edit_command(int argc, const char* const* argv) {
   SurfaceInput as_eval_reads = stored;
   clean_surface(as_eval_reads);
   PreparedShape prepared = prepare_shape(std::move(stored), run_values.options);
-  std::vector<int> vertices(prepared.shape.size());
-  std::iota(vertices.begin(), vertices.end(), 0);
-  const DensityRows density_rows(input_labels(prepared.result.clean.kept,
-                                              prepared.result.prepare.stand_in, vertices,
-                                              input_rows),
-                                 vertices.size());
+  const InputRows density_rows(prepared.result.clean.kept, prepared.result.prepare.stand_in,
+                               input_rows, prepared.shape.size());
   const Frame frame = prepared.result.prepare.frame;
   const json preparation = preparation_summary(prepared.result, prepared.shape.size());
   const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
@@ -641,7 +618,7 @@ int edit_command(int argc, const char* const* argv) {
     res.headers.emplace_back("Content-Disposition",
                              "attachment; filename=\"" + std::filesystem::path(input).stem().string() +
                                  "_density.txt\"");
-    res.body = density_rows.to_text(s.density.get());
+    res.body = density_file(density_rows, s);
   });
   Saved saved;
   const std::string download_name = std::filesystem::path(input).stem().string() + "_skeleton.ply";

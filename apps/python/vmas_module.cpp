@@ -452,7 +452,8 @@ class InputMap {
       : frame_(prepared.result.prepare.frame),
         input_points_(input_points),
         input_row_(prepared.result.clean.kept),
-        stand_in_(prepared.result.prepare.stand_in) {}
+        stand_in_(prepared.result.prepare.stand_in),
+        rows_(input_row_, stand_in_, input_points, prepared.shape.points.size()) {}
 
   // The sphere of every input row, −1 for a row that cleaning or preparation dropped.
   std::vector<int> input_labels(const std::vector<int>& labels) const {
@@ -460,12 +461,14 @@ class InputMap {
   }
 
   const Frame& frame() const { return frame_; }
+  const InputRows& rows() const { return rows_; }  // density by input row <-> by vertex
 
  private:
   Frame frame_;
   std::size_t input_points_ = 0;
   std::vector<int> input_row_;  // of every cleaned point
   std::vector<int> stand_in_;   // of every cleaned point: its prepared point, or −1
+  InputRows rows_;
 };
 
 // The shape prepared as vmas.skeletonize prepares it, and `map` back to its input; Ctrl-C stops
@@ -901,11 +904,19 @@ void def_edit_session_control(py::class_<PythonEditSession>& edit_session) {
             d["finish_phase"] = snap.finish_phase;
             d["finish_fraction"] = snap.finish_fraction;
             d["measured_error"] = snap.measured_error;
+            if (snap.density) {
+              const std::vector<double> density = e.map().rows().by_row(*snap.density);
+              d["density"] = py::array_t<double>(static_cast<py::ssize_t>(density.size()),
+                                                 density.data());
+            } else {
+              d["density"] = py::none();
+            }
             return d;
           },
           "The state now (dict): version, iteration, error, paused, target_spheres, keys, "
           "frozen, medial_mesh (input's coordinates), labels (by input row), finished, "
-          "finishing, finish_phase, finish_fraction (of that phase), measured_error.")
+          "finishing, finish_phase, finish_fraction (of that phase), measured_error, density "
+          "(by input row, or None: uniform).")
       .def("close", &PyEdit::close, "Stops the worker; later calls raise vmas.InvalidArgument.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyEdit& e, py::args) { e.close(); });
@@ -960,6 +971,30 @@ void def_edit_session(py::module_& m) {
             e.session().set_lambda(lambda);
           },
           py::arg("lambda_"))
+      .def(
+          "paint_density",
+          [](PyEdit& e, int vertex, double radius, double amount) {
+            py::gil_scoped_release released;
+            e.session().paint_density(vertex, radius, amount);
+          },
+          py::arg("vertex"), py::arg("radius"), py::arg("amount"),
+          "A brush stroke (one undo step): `amount` added to the density at this prepared "
+          "vertex, falling smoothly to nothing at `radius` (a fraction of the diagonal).")
+      .def(
+          "set_density",
+          [](PyEdit& e, const py::object& density) {
+            std::vector<double> by_vertex;
+            if (!density.is_none()) {
+              const std::vector<double> by_row = density.cast<std::vector<double>>();
+              check_density(by_row, e.map().rows().rows());
+              by_vertex = e.map().rows().by_vertex(by_row);
+            }
+            py::gil_scoped_release released;
+            e.session().set_density(std::move(by_vertex));
+          },
+          py::arg("density"),
+          "The density of every input row (a vertex takes the mean of the rows it stands for), "
+          "or None: uniform. One undo step.")
       .def("undo", [](PyEdit& e) { e.session().undo(); })
       .def("redo", [](PyEdit& e) { e.session().redo(); });
   def_edit_session_control(edit_session);

@@ -135,6 +135,23 @@ PreparedShape prepare_shape(SurfaceInput input, const Options& options = {},
 std::vector<int> input_labels(const std::vector<int>& kept, const std::vector<int>& stand_in,
                               const std::vector<int>& labels, std::size_t input_points);
 
+// Between the input's rows and a prepared shape's vertices, for values given by row (a density
+// file, Python's density=) and shown by vertex: each vertex takes the mean of the rows it stands
+// for (1 when none does: a sampled mesh's new vertices), each row its vertex's (1 for a row that
+// cleaning or preparation dropped). `kept` and `stand_in` as input_labels takes them.
+class InputRows {
+ public:
+  InputRows() = default;
+  InputRows(const std::vector<int>& kept, const std::vector<int>& stand_in, std::size_t rows,
+            std::size_t vertices);
+  std::vector<double> by_vertex(const std::vector<double>& by_row) const;  // one value per row
+  std::vector<double> by_row(const std::vector<double>& by_vertex) const;  // one per vertex
+  std::size_t rows() const { return vertex_of_row_.size(); }
+
+ private:
+  std::vector<int> vertex_of_row_;  // −1: dropped
+  std::size_t vertices_ = 0;
+};
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
 // its smoothing, and on a smoothed mesh about smoothed_points_needed() of its vertices.
 EvalOptions refinement_eval_options(const PreparedShape& prepared);

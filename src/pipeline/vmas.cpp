@@ -9,6 +9,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -294,6 +295,40 @@ std::vector<int> input_labels(const std::vector<int>& kept, const std::vector<in
   for (std::size_t i = 0; i < stand_in.size(); ++i)
     if (stand_in[i] >= 0) by_row[kept[i]] = labels[stand_in[i]];
   return by_row;
+}
+
+InputRows::InputRows(const std::vector<int>& kept, const std::vector<int>& stand_in,
+                     std::size_t rows, std::size_t vertices)
+    : vertices_(vertices) {
+  std::vector<int> vertex(vertices);
+  std::iota(vertex.begin(), vertex.end(), 0);
+  vertex_of_row_ = input_labels(kept, stand_in, vertex, rows);
+}
+
+std::vector<double> InputRows::by_vertex(const std::vector<double>& by_row) const {
+  if (by_row.size() != vertex_of_row_.size())
+    throw InvalidArgument(std::to_string(by_row.size()) + " values for " +
+                          std::to_string(vertex_of_row_.size()) + " input rows");
+  std::vector<double> sum(vertices_, 0.0), count(vertices_, 0.0);
+  for (std::size_t row = 0; row < by_row.size(); ++row)
+    if (vertex_of_row_[row] >= 0) {
+      sum[vertex_of_row_[row]] += by_row[row];
+      count[vertex_of_row_[row]] += 1.0;
+    }
+  std::vector<double> values(vertices_, 1.0);
+  for (std::size_t v = 0; v < vertices_; ++v)
+    if (count[v] > 0.0) values[v] = sum[v] / count[v];
+  return values;
+}
+
+std::vector<double> InputRows::by_row(const std::vector<double>& by_vertex) const {
+  if (by_vertex.size() != vertices_)
+    throw InvalidArgument(std::to_string(by_vertex.size()) + " values for " +
+                          std::to_string(vertices_) + " vertices");
+  std::vector<double> values;
+  values.reserve(vertex_of_row_.size());
+  for (int vertex : vertex_of_row_) values.push_back(vertex >= 0 ? by_vertex[vertex] : 1.0);
+  return values;
 }
 
 namespace {

@@ -547,3 +547,36 @@ def test_a_density_puts_spheres_where_it_is_high_and_bad_ones_are_refused(tmp_pa
         vmas.skeletonize(points, spheres=30, density="distance-to:1,2")
     with pytest.raises(TypeError, match="density_field"):
         vmas.skeletonize(points, spheres=30, density_field="d")
+
+
+def test_an_edit_session_paints_sets_and_reports_the_density_by_input_row():
+    points, normals = capsule_points(3000)
+    points = np.vstack([points, points[:1]])  # a duplicate row: dropped, reported as 1
+    normals = np.vstack([normals, normals[:1]])
+    with vmas.EditSession(points, normals, spheres=8, threads=1) as session:
+        assert session.snapshot()["density"] is None
+
+        def until(done):
+            deadline = time.monotonic() + 20.0
+            while not done(snap := session.snapshot()) and time.monotonic() < deadline:
+                session.wait(snap["version"], timeout=1.0)
+            return session.snapshot()
+
+        session.paint_density(0, 0.2, 3.0)
+        painted = until(lambda s: s["density"] is not None)["density"]
+        assert painted.shape == (len(points),)
+        assert painted[0] == 4.0 and painted[-1] == 1.0 and painted.min() == 1.0
+        wanted = np.where(points[:, 0] > 0.3, 4.0, 1.0)
+        session.set_density(wanted)
+        shown = until(lambda s: s["density"] is not None and
+                      np.array_equal(s["density"][:-1], wanted[:-1]))["density"]
+        assert np.array_equal(shown[:-1], wanted[:-1]) and shown[-1] == 1.0
+        session.undo()
+        assert np.array_equal(until(lambda s: s["density"] is not None and
+                                    s["density"][0] == 4.0)["density"], painted)
+        session.set_density(None)
+        assert until(lambda s: s["density"] is None)["density"] is None
+        with pytest.raises(vmas.InvalidInput, match="the density has 2 values for 3001 points"):
+            session.set_density([1.0, 2.0])
+        with pytest.raises(vmas.InvalidOption, match="radius"):
+            session.paint_density(0, 0.0, 1.0)
