@@ -196,12 +196,10 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   if (density.is_rule()) density_by_rule(SurfaceInput{}, density.file_or_rule);  // its syntax
 }
 
-bool DensitySource::is_rule() const {
-  return file_or_rule == "curvature" || file_or_rule.rfind("distance-to:", 0) == 0;
-}
+bool DensitySource::is_rule() const { return is_density_rule(file_or_rule); }
 
 std::vector<double> density_of(const std::string& file_or_rule, const SurfaceInput& surface) {
-  if (DensitySource{file_or_rule, {}}.is_rule()) return density_by_rule(surface, file_or_rule);
+  if (is_density_rule(file_or_rule)) return density_by_rule(surface, file_or_rule);
   if (!std::filesystem::exists(file_or_rule))
     throw IoError(file_or_rule +
                   ": no such file (nor a density rule: curvature, "

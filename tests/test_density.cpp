@@ -20,11 +20,7 @@ namespace {
 // An elongated ellipsoid cloud with its exact normals; its end beyond x = 1.5 holds about a sixth
 // of the points.
 SurfaceInput ellipsoid_cloud() {
-  const test::Sample s = test::sample_ellipsoid(Vec3(3.0, 1.0, 0.8), 6000, 7);
-  SurfaceInput cloud;
-  cloud.points = s.points;
-  cloud.normals = s.normals;
-  return cloud;
+  return test::sample_ellipsoid(Vec3(3.0, 1.0, 0.8), 6000, 7).cloud();
 }
 
 bool in_dense_end(const Vec3& p) { return p.x() > 1.5; }
@@ -174,37 +170,31 @@ TEST_F(DensityCli, FieldsAndFilesAreReadAndTheirErrorsNameTheFile) {
         << e.what();
   }
 
-  const test::Sample s = test::sample_sphere(Vec3::Zero(), 1.0, 400, 3);
-  SurfaceInput cloud;
-  cloud.points = s.points;
-  write_surface(path("ball.xyz"), cloud);
+  write_surface(path("ball.xyz"), test::sample_sphere(Vec3::Zero(), 1.0, 400, 3).cloud(false));
+  const auto skeletonize_ball = [&](const std::string& options) {
+    return run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") + " " + options);
+  };
   std::string values;
-  for (std::size_t i = 0; i < s.points.size(); ++i) values += i == 7 ? "-1\n" : "1\n";
+  for (std::size_t i = 0; i < 400; ++i) values += i == 7 ? "-1\n" : "1\n";
   write("density.txt", values);
-  auto r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") + " --density " +
-               path("density.txt"));
+  auto r = skeletonize_ball("--density " + path("density.txt"));
   EXPECT_EQ(r.exit_code, 1);
   test::expect_one_line_error(r, "density.txt: the density of point 7 is negative (-1)");
   EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
   write("density.txt", "1\n1\n");
-  r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") + " --density " +
-          path("density.txt"));
+  r = skeletonize_ball("--density " + path("density.txt"));
   EXPECT_EQ(r.exit_code, 1);
   test::expect_one_line_error(r, "density.txt: 2 density values for the input's 400 points");
-  r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") +
-          " --density-field weight");
+  r = skeletonize_ball("--density-field weight");
   EXPECT_EQ(r.exit_code, 1);
   test::expect_one_line_error(r, "ball.xyz: line 1: expected 4 or 7 columns");
-  r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") +
-          " --density distance-to:0,0");
+  r = skeletonize_ball("--density distance-to:0,0");
   EXPECT_EQ(r.exit_code, 2);
   test::expect_one_line_error(r, "distance-to:X,Y,Z,R[,D]");
-  r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") +
-          " --density curvature --density-field weight");
+  r = skeletonize_ball("--density curvature --density-field weight");
   EXPECT_EQ(r.exit_code, 2);
   test::expect_one_line_error(r, "give one");
-  r = run("skeletonize " + path("ball.xyz") + " -n 5 -o " + path("out.ply") +
-          " --density distance-to:1,0,0,0.5 -q");
+  r = skeletonize_ball("--density distance-to:1,0,0,0.5 -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(path("out.ply")));
 }

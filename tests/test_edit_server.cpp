@@ -110,11 +110,7 @@ class EditServer : public test::CliTest {
 };
 
 TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
-  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 53);
-  SurfaceInput cloud;
-  cloud.points = s.points;
-  cloud.normals = s.normals;
-  write_surface(path("capsule.xyz"), cloud);
+  write_surface(path("capsule.xyz"), test::sample_capsule(0.2, 1.0, 3000, 53).cloud());
   start({path("capsule.xyz"), "--spheres", "6", "-o", path("saved.ply"), "--threads", "1"});
 
   const auto shape = client_->Get(api("/api/shape").c_str());
@@ -184,11 +180,7 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
 // The page's ε is what vmas eval says of the skeleton a save writes: measured whenever the
 // skeleton holds still, here paused after an edit.
 TEST_F(EditServer, ThePagesErrorIsVmasEvalsOfWhatASaveWrites) {
-  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 53);
-  SurfaceInput cloud;
-  cloud.points = s.points;
-  cloud.normals = s.normals;
-  write_surface(path("capsule.xyz"), cloud);
+  write_surface(path("capsule.xyz"), test::sample_capsule(0.2, 1.0, 3000, 53).cloud());
   start({path("capsule.xyz"), "--spheres", "8", "-o", path("saved.ply"), "--threads", "1",
          "--finish-on-save", "false"});
   ASSERT_EQ(state_with_spheres(8)["spheres"].size(), 8u);
@@ -211,10 +203,7 @@ TEST_F(EditServer, ThePagesErrorIsVmasEvalsOfWhatASaveWrites) {
 }
 
 TEST_F(EditServer, TheDensityIsPaintedSavedAndLoadedByInputRow) {
-  const test::Sample s = test::sample_capsule(0.2, 1.0, 3000, 59);
-  SurfaceInput cloud;
-  cloud.points = s.points;
-  cloud.normals = s.normals;
+  SurfaceInput cloud = test::sample_capsule(0.2, 1.0, 3000, 59).cloud();
   cloud.points.push_back(cloud.points[10]);  // a duplicate row: dropped, saved as 1
   cloud.normals.push_back(cloud.normals[10]);
   write_surface(path("capsule.xyz"), cloud);

@@ -115,6 +115,13 @@ Vec3 draw_xyz(Draw&& draw) {
 struct Sample {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;
+  // The samples as a cloud, with their normals or without.
+  SurfaceInput cloud(bool with_normals = true) const {
+    SurfaceInput surface;
+    surface.points = points;
+    if (with_normals) surface.normals = normals;
+    return surface;
+  }
 };
 
 inline Vec3 random_unit(std::mt19937& rng) {

@@ -156,6 +156,8 @@ void check_density(const std::vector<double>& density, std::size_t points);
 //   "distance-to:X,Y,Z,R[,D]": D (4 unless given) within R of the point (X, Y, Z), 1 elsewhere.
 // Points with a NaN coordinate get 1. Throws InvalidOption ("density") for another rule.
 std::vector<double> density_by_rule(const SurfaceInput& surface, const std::string& rule);
+// Whether `text` names one of those rules (well formed or not), rather than a file.
+bool is_density_rule(const std::string& text);
 
 // Turns the working frame of `report` and the prepared `surface` in it `turn` times by a fixed
 // angle about the frame's diagonal: the same points, in coordinates that round differently (and

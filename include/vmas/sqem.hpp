@@ -46,6 +46,13 @@ struct Sqem {
     c += other.c;
     return *this;
   }
+  // += weight × other.
+  Sqem& add(const Sqem& other, double weight) {
+    A += weight * other.A;
+    b += weight * other.b;
+    c += weight * other.c;
+    return *this;
+  }
 };
 
 }  // namespace vmas

@@ -178,11 +178,10 @@ CleanReport clean_surface(SurfaceInput& surface) {
 
   // A merged point carries the mean density of its duplicates.
   if (with_density && report.duplicate_points > 0) {
-    std::vector<internal::DensityMean> groups(count);
+    const std::vector<double> merged =
+        internal::mean_density_by_group(surface.density, representative, count, 0.0);
     for (Index i = 0; i < static_cast<Index>(count); ++i)
-      if (representative[i] != kDropped) groups[representative[i]].add(surface.density[i], 1.0);
-    for (Index i = 0; i < static_cast<Index>(count); ++i)
-      if (representative[i] == i) surface.density[i] = groups[i].value();
+      if (representative[i] == i) surface.density[i] = merged[i];
   }
   // The points kept move down in place (a point's new place is never after its old one): a big
   // cloud is never held twice.

@@ -77,15 +77,10 @@ Sphere fit_sphere(const Shape& shape, const std::vector<int>& members, const Sph
   if (members.empty()) return initial;
   // With a density, each vertex's energy counts by its weight (docs/design.md, "Density").
   Sqem cluster_quadric;
-  if (shape.density.empty()) {
+  if (shape.error_weights.empty()) {
     for (int v : members) cluster_quadric += shape.quadric[v];
   } else {
-    for (int v : members) {
-      const double weight = shape.error_weight(v);
-      cluster_quadric.A += weight * shape.quadric[v].A;
-      cluster_quadric.b += weight * shape.quadric[v].b;
-      cluster_quadric.c += weight * shape.quadric[v].c;
-    }
+    for (int v : members) cluster_quadric.add(shape.quadric[v], shape.error_weights[v]);
   }
 
   Vec4 current = to_vec4(initial);

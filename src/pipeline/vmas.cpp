@@ -17,6 +17,7 @@
 #include "optimise/connectivity.hpp"
 #include "eval/envelope.hpp"
 #include "prepare/normals.hpp"
+#include "core/density_mean.hpp"
 #include "core/stopwatch.hpp"
 #include "core/validate_member.hpp"
 #include "pipeline/validity.hpp"
@@ -309,16 +310,7 @@ std::vector<double> InputRows::by_vertex(const std::vector<double>& by_row) cons
   if (by_row.size() != vertex_of_row_.size())
     throw InvalidArgument(std::to_string(by_row.size()) + " values for " +
                           std::to_string(vertex_of_row_.size()) + " input rows");
-  std::vector<double> sum(vertices_, 0.0), count(vertices_, 0.0);
-  for (std::size_t row = 0; row < by_row.size(); ++row)
-    if (vertex_of_row_[row] >= 0) {
-      sum[vertex_of_row_[row]] += by_row[row];
-      count[vertex_of_row_[row]] += 1.0;
-    }
-  std::vector<double> values(vertices_, 1.0);
-  for (std::size_t v = 0; v < vertices_; ++v)
-    if (count[v] > 0.0) values[v] = sum[v] / count[v];
-  return values;
+  return internal::mean_density_by_group(by_row, vertex_of_row_, vertices_, 1.0);
 }
 
 std::vector<double> InputRows::by_row(const std::vector<double>& by_vertex) const {

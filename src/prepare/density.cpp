@@ -21,6 +21,8 @@ constexpr double kMostCurvedDensity = 4.0;
 constexpr double kMostCurvedShare = 0.05;
 // The distance rule's density within its radius, unless given.
 constexpr double kNearDensity = 4.0;
+// The rules' names.
+const std::string kCurvatureRule = "curvature", kDistanceRule = "distance-to:";
 
 std::string figure(double value) {
   char text[32];
@@ -119,11 +121,14 @@ void check_density(const std::vector<double>& density, std::size_t points) {
     throw InvalidInput("every density value is 0: some point must have a positive density");
 }
 
+bool is_density_rule(const std::string& text) {
+  return text == kCurvatureRule || text.compare(0, kDistanceRule.size(), kDistanceRule) == 0;
+}
+
 std::vector<double> density_by_rule(const SurfaceInput& surface, const std::string& rule) {
-  const std::string distance = "distance-to:";
-  if (rule == "curvature") return curvature_density(surface.points);
-  if (rule.compare(0, distance.size(), distance) == 0)
-    return distance_density(surface.points, rule, rule.substr(distance.size()));
+  if (rule == kCurvatureRule) return curvature_density(surface.points);
+  if (is_density_rule(rule))
+    return distance_density(surface.points, rule, rule.substr(kDistanceRule.size()));
   throw InvalidOption("density",
                       "'" + rule + "' is no density rule (curvature, distance-to:X,Y,Z,R[,D])");
 }

@@ -145,13 +145,9 @@ void keep_cells(const Subsample& thin, SurfaceInput& surface, PrepareReport& rep
   keep_only(surface.points, thin.kept);
   keep_only(surface.normals, thin.kept);
   // A cell's point stands for the points thinned away: it carries their mean density.
-  if (!surface.density.empty()) {
-    std::vector<internal::DensityMean> cells(thin.kept.size());
-    for (std::size_t p = 0; p < surface.density.size(); ++p)
-      cells[thin.representative[p]].add(surface.density[p], 1.0);
-    surface.density.clear();
-    for (const internal::DensityMean& cell : cells) surface.density.push_back(cell.value());
-  }
+  if (!surface.density.empty())
+    surface.density = internal::mean_density_by_group(surface.density, thin.representative,
+                                                      thin.kept.size(), 0.0);
 }
 
 // Every later stage costs at least linear time in the points; a big cloud's detail below a few
