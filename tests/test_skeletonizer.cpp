@@ -129,6 +129,44 @@ TEST(Skeletonizer, DynamicEditingBetweenSteps) {
   EXPECT_THROW(skeletonizer.add_sphere_at(-1), InvalidArgument);
 }
 
+// A settled sphere (the same members, moved by rounding at most) is not fitted again: steps leave
+// a settled skeleton exactly as it is, until an edit, a new λ or a new density moves it.
+TEST(Skeletonizer, SettledSpheresStayPutUntilSomethingChanges) {
+  const test::Sample cloud = test::sample_torus(1.0, 0.3, 3000, 7);
+  Skeletonizer skeletonizer(build_shape(cloud.cloud(), {}), with_target(12));
+  skeletonizer.run();
+  for (int i = 0; i < 40; ++i) skeletonizer.step();
+  const auto moved_since = [&](const std::vector<Sphere>& before) {
+    int moved = 0;
+    for (std::size_t c = 0; c < before.size(); ++c)
+      moved += skeletonizer.spheres()[c].center != before[c].center ||
+               skeletonizer.spheres()[c].radius != before[c].radius;
+    return moved;
+  };
+  const std::vector<Sphere> settled = skeletonizer.spheres();
+  for (int i = 0; i < 5; ++i) skeletonizer.step();
+  EXPECT_EQ(moved_since(settled), 0);
+
+  skeletonizer.set_lambda(skeletonizer.options().lambda * 4);
+  skeletonizer.step();
+  EXPECT_GT(moved_since(settled), 6);
+
+  for (int i = 0; i < 40; ++i) skeletonizer.step();
+  const std::vector<Sphere> settled_again = skeletonizer.spheres();
+  std::vector<double> density(skeletonizer.shape().size(), 1.0);
+  for (int v = 0; v < skeletonizer.shape().size(); ++v)
+    if (skeletonizer.shape().points[v].x() > 0.5) density[v] = 4.0;
+  skeletonizer.set_density(density);
+  skeletonizer.step();
+  EXPECT_GT(moved_since(settled_again), 0);
+
+  for (int i = 0; i < 40; ++i) skeletonizer.step();
+  skeletonizer.remove_sphere(0);
+  const std::vector<Sphere> after_removal = skeletonizer.spheres();
+  skeletonizer.step();
+  EXPECT_GT(moved_since(after_removal), 0);
+}
+
 // A sphere keeps its key whatever is added or removed; a restored state brings its keys back.
 TEST(Skeletonizer, KeysStayWithTheirSpheres) {
   Skeletonizer skeletonizer(build_shape(test::capsule(0.2, 1.5, 10, 32), {}), with_target(5));

@@ -221,6 +221,19 @@ TEST(Refine, KeepsOnlyMovesThatLowerTheMeasuredErrorAndTheExactCount) {
   EXPECT_LE(skeletonize(box, options).refine.tried, 1);
 }
 
+// A move whose new sphere is one already there (a bulge made by one sphere projects onto it) is
+// not made: on this capsule it left two spheres at one place.
+TEST(Refine, NeverPutsTwoSpheresAtOnePlace) {
+  Options options;
+  options.run.target.spheres = 4;
+  const Result result = skeletonize(test::capsule(0.2, 1.0, 8, 24), options);
+  const auto& spheres = result.medial_mesh.spheres;
+  ASSERT_EQ(spheres.size(), 4u);
+  for (std::size_t a = 0; a < spheres.size(); ++a)
+    for (std::size_t b = a + 1; b < spheres.size(); ++b)
+      EXPECT_GT((spheres[a].center - spheres[b].center).norm(), 1e-3) << a << " " << b;
+}
+
 // The two results have the same spheres, bit for bit.
 void expect_same_spheres(const Result& a, const Result& b) {
   ASSERT_EQ(a.medial_mesh.spheres.size(), b.medial_mesh.spheres.size());

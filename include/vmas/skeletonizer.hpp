@@ -261,6 +261,7 @@ class Skeletonizer {
   void check_target_fits(const Target& target) const;  // InvalidOption: more spheres than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
   void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
+  bool settled(int cluster, double lambda) const;  // its last fit would give it again, nearly
   void check_id(int id) const;
   void add_key() { keys_.push_back(next_key_++); }  // for a sphere just added
 
@@ -275,6 +276,15 @@ class Skeletonizer {
   std::vector<double> vertex_energies_;
   bool energies_current_ = false;  // vertex_energies_ hold E_v of every vertex's sphere as it is
   std::vector<std::vector<int>> members_;
+  // What the last fit_and_project did to each sphere (parallel to spheres_; content-checked, so a
+  // stale entry only costs a refit).
+  struct LastFit {
+    bool made = false;
+    double lambda = 0.0;
+    std::vector<int> members;
+    Sphere before, after;
+  };
+  std::vector<LastFit> last_fits_;
   std::vector<double> cluster_errors_;
   std::vector<double> worst_errors_;  // max E_v / A(v) × error_weight per cluster (split ranking)
   std::vector<double> cluster_densities_;  // area-weighted mean density per cluster (none: empty)

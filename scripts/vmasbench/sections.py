@@ -365,7 +365,7 @@ def scaling(args, results, save, log):
         f"[scaling] no plot: {results['scaling_plot']['error']}")
 
 
-EDITING_FILTER = ("^BM_Step/|^BM_EditThenStep/1$|^BM_StepOnAThinnedScan/2$"
+EDITING_FILTER = ("^BM_Step/|^BM_EditThenStep/1$|^BM_StepAfterEdit/1$|^BM_StepOnAThinnedScan/2$"
                   "|^BM_EditSessionOnAThinnedScan/")
 
 

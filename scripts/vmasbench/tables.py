@@ -675,6 +675,7 @@ EDITING_BENCHMARKS = {
     "BM_Step/1": "one step, vessel (49 698 vertices), 200 spheres, 1 thread",
     "BM_Step/2": "one step, vessel, 200 spheres, 2 threads",
     "BM_EditThenStep/1": "remove + split + the step after, vessel, 200 spheres, 1 thread",
+    "BM_StepAfterEdit/1": "the step after a remove + split alone, vessel, 200 spheres, 1 thread",
     "BM_StepOnAThinnedScan/2": "one step, 1 M-point armadillo cloud (thinned), 200 spheres, "
                                "2 threads",
     "BM_EditSessionOnAThinnedScan/2/iterations:1/real_time":

@@ -56,7 +56,7 @@ struct EditSession::Impl {
     int value = 0;
     double number = 0.0;
     double amount = 0.0;          // PaintDensity (value: the vertex, number: the radius)
-    std::vector<double> density;  // SetDensity
+    std::vector<double> density = {};  // SetDensity
   };
 
   void enqueue(const Edit& edit);

@@ -69,6 +69,14 @@ constexpr std::size_t kCoarseShare = 4;
 constexpr std::size_t kCoarseVerticesPerSphere = 50;
 constexpr double kCoarseAtMost = 0.7;
 
+// A sphere that its last fit and projection moved less than this (a fraction of the diagonal),
+// with the same members since, is settled: fitting it again would move it by rounding only.
+constexpr double kSettledMove = 1e-9;
+
+bool same_sphere(const Sphere& a, const Sphere& b) {
+  return a.center == b.center && a.radius == b.radius;
+}
+
 }  // namespace
 
 Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
@@ -209,15 +217,17 @@ void Skeletonizer::fit_and_project(double lambda) {
   // stage would add a barrier, and on a virtual machine waking the waiting threads costs ~0.1 ms.
   // The summary's update and projection times split the loop's wall time by their thread time.
   double fit_seconds = 0.0, projection_seconds = 0.0;
+  last_fits_.resize(count);
 #pragma omp parallel for schedule(dynamic) reduction(+ : fit_seconds, projection_seconds)
   for (int c = 0; c < count; ++c) {
-    if (frozen_[c]) continue;
+    if (frozen_[c] || settled(c, lambda)) continue;
     const auto fit_start = Clock::now();
     fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
     const auto projection_start = Clock::now();
     if (options_.project) fitted[c] = projector_.project(fitted[c].center);
     fit_seconds += std::chrono::duration<double>(projection_start - fit_start).count();
     projection_seconds += seconds_since(projection_start);
+    last_fits_[c] = {true, lambda, members_[c], spheres_[c], fitted[c]};
   }
   const double wall = seconds_since(start);
   const double busy = fit_seconds + projection_seconds;
@@ -225,6 +235,15 @@ void Skeletonizer::fit_and_project(double lambda) {
   times_.projection += busy > 0.0 ? wall * projection_seconds / busy : 0.0;
   spheres_ = std::move(fitted);
   energies_current_ = false;
+}
+
+bool Skeletonizer::settled(int cluster, double lambda) const {
+  const LastFit& last = last_fits_[cluster];
+  const double tolerance = kSettledMove * shape_.diagonal;
+  return last.made && last.lambda == lambda && same_sphere(spheres_[cluster], last.after) &&
+         (last.after.center - last.before.center).norm() <= tolerance &&
+         std::abs(last.after.radius - last.before.radius) <= tolerance &&
+         members_[cluster] == last.members;
 }
 
 void Skeletonizer::check_target_fits(const Target& target) const {
@@ -475,6 +494,7 @@ void Skeletonizer::remove_sphere(int id) {
   spheres_.erase(spheres_.begin() + id);
   frozen_.erase(frozen_.begin() + id);
   keys_.erase(keys_.begin() + id);
+  if (id < static_cast<int>(last_fits_.size())) last_fits_.erase(last_fits_.begin() + id);
   for (int& label : labels_) label = label == id ? -1 : (label > id ? label - 1 : label);
   energies_current_ = false;
   repartition();
@@ -515,6 +535,7 @@ void Skeletonizer::set_density(std::vector<double> density) {
     }
   }
   shape_.set_density(std::move(density));
+  last_fits_.clear();  // the fit weighs its vertices by the density
   refresh_errors(!energies_current_);  // the clusters' densities and worst weighted errors
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <chrono>
 #include <limits>
 #include <string>
@@ -32,6 +33,8 @@ constexpr std::size_t kRemovalCandidates = 10;
 // A removal may leave its former vertices at most this fraction of the current error away from
 // the reconstruction (before anything adapts to it).
 constexpr double kRemovalMargin = 0.75;
+// Spheres closer than this (a fraction of the diagonal, centres and radii) are one.
+constexpr double kSameSphere = 1e-9;
 // Steps before the final refits when a move alone did not help.
 constexpr int kSettleSteps = 3;
 
@@ -175,11 +178,22 @@ bool leaves_members_covered(const Skeletonizer& skeletonizer,
   return left.empty() || *std::max_element(left.begin(), left.end()) < margin;
 }
 
+// Whether sphere `id` lies where another one is, up to rounding.
+bool duplicates_a_sphere(const Skeletonizer& skeletonizer, int id) {
+  const std::vector<Sphere>& spheres = skeletonizer.spheres();
+  const double tolerance = kSameSphere * skeletonizer.shape().diagonal;
+  for (int other = 0; other < static_cast<int>(spheres.size()); ++other)
+    if (other != id && (spheres[other].center - spheres[id].center).norm() <= tolerance &&
+        std::abs(spheres[other].radius - spheres[id].radius) <= tolerance)
+      return true;
+  return false;
+}
+
 // Adds a sphere where the reconstruction (`medial`, measured as `now`) is worst and removes the
 // cheapest sphere whose removal leaves its vertices covered (energy is an average: the sphere of a
 // thin part can be cheap while its removal opens a hole). The new sphere is frozen and comes last.
-// Returns the removed sphere's id; -1 when no sphere can go (the new one is left in place: the
-// caller restores its last state).
+// Returns the removed sphere's id; -1 when the new sphere is one already there or no sphere can go
+// (the new one is left in place: the caller restores its last state).
 int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const EvalResult& now,
                    bool uncovered) {
   const MedialProjector& projector = skeletonizer.projector();
@@ -190,6 +204,9 @@ int add_and_remove(Skeletonizer& skeletonizer, const MedialMesh& medial, const E
   const int added =
       uncovered ? skeletonizer.add_sphere_at(projector.nearest_vertex(now.surface_to_medial_worst))
                 : skeletonizer.add_sphere(projector.project(bulge.sphere.center));
+  // The ball there may be a sphere already (a bulge made by one sphere projects onto it): a copy
+  // would only waste a sphere.
+  if (duplicates_a_sphere(skeletonizer, added)) return -1;
   skeletonizer.freeze(added);
   // A bulge: its own spheres may go first (the new one takes their place).
   std::vector<int> order;

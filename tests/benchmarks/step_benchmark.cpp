@@ -133,6 +133,22 @@ void BM_EditThenStep(benchmark::State& state) {
   state.counters["spheres"] = static_cast<double>(skeletonizer->spheres().size());
 }
 
+// The step that answers an edit, alone: its spheres' neighbours are fitted again, while the
+// settled ones elsewhere are passed over (BM_Step, long settled, passes over nearly all).
+void BM_StepAfterEdit(benchmark::State& state) {
+  vmas::Skeletonizer* skeletonizer = prepared_for(state, settled_skeletonizer(), "vessel");
+  if (!skeletonizer) return;
+  int vertex = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    skeletonizer->remove_sphere(0);
+    vertex = (vertex + 7919) % skeletonizer->shape().size();
+    skeletonizer->add_sphere_at(vertex);
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(skeletonizer->step());
+  }
+}
+
 // The editor's engine alone (no page): a session on the 1 M-point scan, growing from one sphere
 // to 200, then edited (a split and a removal every 100 ms for 3 s). Its published states per
 // second in each phase are the updates a page could show (issue 45: at least 10).
@@ -184,6 +200,7 @@ BENCHMARK(BM_EditSessionOnAThinnedScan)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
 BENCHMARK(BM_EditThenStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepAfterEdit)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepOnAThinnedScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
