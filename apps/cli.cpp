@@ -23,12 +23,16 @@ namespace vmas::cli {
 boost::program_options::variables_map parse_arguments(
     int argc, const char* const* argv, const boost::program_options::options_description& visible,
     const boost::program_options::options_description& hidden,
-    const boost::program_options::positional_options_description& positional) {
+    const boost::program_options::positional_options_description& positional,
+    std::vector<boost::program_options::option>* given) {
   namespace po = boost::program_options;
   po::options_description all;
   all.add(visible).add(hidden);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  const po::parsed_options parsed =
+      po::command_line_parser(argc, argv).options(all).positional(positional).run();
+  po::store(parsed, vm);
+  if (given) *given = parsed.options;
   return vm;
 }
 

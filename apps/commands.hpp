@@ -17,11 +17,12 @@ int edit_command(int argc, const char* const* argv);
 
 // Parses a subcommand's arguments: the options it shows in --help (`visible`), and the
 // positional ones (`positional`, declared in `hidden` so that --help leaves them out). Does not
-// notify, so that --help works without them.
+// notify, so that --help works without them. `given`: the options as parsed, in order.
 boost::program_options::variables_map parse_arguments(
     int argc, const char* const* argv, const boost::program_options::options_description& visible,
     const boost::program_options::options_description& hidden,
-    const boost::program_options::positional_options_description& positional);
+    const boost::program_options::positional_options_description& positional,
+    std::vector<boost::program_options::option>* given = nullptr);
 
 // The --threads option of every subcommand: 0 keeps OpenMP's default (all cores).
 void set_threads(int threads);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "batch_summary.hpp"
 #include "commands.hpp"
 #include "run_summary.hpp"
 #include "standard_streams.hpp"
@@ -320,9 +321,10 @@ std::vector<std::string> read_input_list(const std::string& path) {
 // would overwrite each other. `format`: ply or ma (checked by the caller).
 std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::string& directory,
                             const std::string& format) {
-  // Created when missing, as the batch scripts do.
+  // Created when missing (another vmas of the same batch may be creating it too).
   std::error_code error;
-  if (!fs::is_directory(directory) && !fs::create_directories(directory, error))
+  fs::create_directories(directory, error);
+  if (!fs::is_directory(directory))
     throw InvalidOption("--output-dir " + directory + ": cannot create the folder (" +
                         error.message() + ")");
   std::vector<Job> jobs;
@@ -344,9 +346,29 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
 struct Request {
   Settings settings;
   std::vector<std::string> inputs;
-  std::string output, output_dir, inputs_list, labels_path;
-  bool batch = false;  // several inputs, or --output-dir
+  std::string output, output_dir, inputs_list, labels_path, summary_path;
+  bool batch = false;   // several inputs, or --output-dir
+  bool resume = false;  // skip the inputs that --summary's file shows done
+  // The options that shape the outputs, as --summary's file records them for --resume.
+  std::vector<std::string> batch_options;
 };
+
+// The options that shape a batch's outputs, one "--name=value" each in the order given: neither
+// where the results go nor how they are reported, nor --threads (results do not depend on it).
+std::vector<std::string> options_shaping_outputs(const std::vector<po::option>& given) {
+  static const std::vector<std::string> kNotShaping = {
+      "output-dir", "inputs", "summary", "resume", "json", "quiet", "threads", "help"};
+  std::vector<std::string> shaping;
+  for (const po::option& o : given) {
+    if (o.position_key >= 0 ||
+        std::find(kNotShaping.begin(), kNotShaping.end(), o.string_key) != kNotShaping.end())
+      continue;
+    std::string text = "--" + o.string_key;
+    for (std::size_t i = 0; i < o.value.size(); ++i) text += (i == 0 ? "=" : " ") + o.value[i];
+    shaping.push_back(text);
+  }
+  return shaping;
+}
 
 // The command line read and checked; nothing when it asked for --help (printed).
 std::optional<Request> read_request(int argc, const char* const* argv) {
@@ -370,6 +392,12 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
        "also write the sphere of every point of the file, one per line (-1: point dropped as "
        "NaN, duplicate or outlier); one INPUT only")
       ("json", "print the summary as one JSON object (one line per INPUT with several)")
+      ("summary", po::value(&r.summary_path),
+       "with several INPUTs or --output-dir: also keep each INPUT's JSON line in this file, "
+       "in place of its line of an earlier run (one line per INPUT; several vmas may write it "
+       "at once)")
+      ("resume", "with --summary: skip each INPUT whose line there has no error and the same "
+       "options, and whose output is newer than it")
       ("eval", "also measure the result's reconstruction error against INPUT (as vmas eval)")
       ("quiet,q", "print nothing but errors and warnings");
   // clang-format on
@@ -378,12 +406,15 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
   hidden.add_options()("input", po::value(&r.inputs));
   po::positional_options_description positional;
   positional.add("input", -1);
-  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional);
+  std::vector<po::option> given;
+  po::variables_map vm = parse_arguments(argc, argv, visible, hidden, positional, &given);
   if (vm.count("help")) {
     std::cout << visible
               << "\nexamples:\n"
                  "  vmas skeletonize clouds/bunny_merged_45k.xyz --spheres 60 -o bunny.ply\n"
-                 "  vmas skeletonize scans/*.pcd --spheres 60 --output-dir skeletons --json\n";
+                 "  vmas skeletonize scans/*.pcd --spheres 60 --output-dir skeletons --json\n"
+                 "  vmas skeletonize scans/*.pcd --spheres 60 --output-dir skeletons \\\n"
+                 "      --summary skeletons/summary.jsonl --resume\n";
     return std::nullopt;
   }
   po::notify(vm);
@@ -395,7 +426,13 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
   r.batch = r.inputs.size() > 1 || !r.output_dir.empty();
   if (r.batch && !r.output.empty())
     throw po::error("give --output-dir for several inputs (--output names one file)");
+  if (r.batch && r.output_dir.empty()) throw po::error("several INPUTs need --output-dir");
   if (!r.batch && r.output.empty()) throw po::error("missing --output");
+  if (!r.batch && !r.summary_path.empty())
+    throw po::error("--summary goes with several INPUTs or --output-dir");
+  r.resume = vm.count("resume") > 0;
+  if (r.resume && r.summary_path.empty()) throw po::error("--resume needs --summary FILE");
+  r.batch_options = options_shaping_outputs(given);
   if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
   finish_run_options(vm, run_values);
   settings.options = run_values.options;
@@ -448,40 +485,67 @@ int run_single(const Request& r) {
   return 0;
 }
 
-// Several inputs: keep going after a failure, one line per file.
+// A batch's line for one input on standard output: its JSON line with --json, else a line of
+// text (a failure's also with --quiet).
+void print_batch_line(const Job& job, const json& line, const Settings& settings) {
+  if (settings.json) {
+    std::cout << json_line(line) << std::endl;
+  } else if (line.contains("error")) {
+    std::cout << job.input << ": failed: " << line["error"].get<std::string>() << std::endl;
+  } else if (settings.quiet) {
+    return;
+  } else if (line.contains("skipped")) {
+    std::cout << job.input << " -> " << job.output << ": up to date, skipped" << std::endl;
+  } else {
+    std::cout << job.input << " -> " << job.output << ": " << line["spheres"] << " spheres, "
+              << line["edges"] << " edges, " << line["medial_faces"] << " faces, "
+              << text_of(line["seconds"]["total"], "%.2f") << " s"
+              << (line.contains("eval")
+                      ? ", epsilon " + line["eval"]["hausdorff_percent"].dump() + " %"
+                      : std::string())
+              << (line["warnings"].empty()
+                      ? ""
+                      : ", " + std::to_string(line["warnings"].size()) + " warning(s)")
+              << std::endl;
+  }
+}
+
+// Several inputs: keep going after a failure, one line per file (and in --summary's file).
 int run_batch(const Request& r) {
   const Settings& settings = r.settings;
   const std::vector<Job> jobs = batch_jobs(r.inputs, r.output_dir, settings.output_format);
   std::vector<std::string> outputs, read = r.inputs;
   for (const Job& job : jobs) outputs.push_back(job.output);
   read.push_back(r.inputs_list);
+  if (!r.summary_path.empty()) {
+    check_output_option(r.summary_path, check_output);
+    outputs.push_back(r.summary_path);
+  }
   check_distinct_files_option(read, outputs);
+  const BatchSummary summary(r.summary_path);
+  const std::map<std::string, json> earlier = r.resume ? summary.read() : std::map<std::string, json>{};
+  const auto keep = [&](json line) {
+    if (r.summary_path.empty()) return;
+    line["batch_options"] = r.batch_options;
+    summary.merge(line);
+  };
   int failed = 0;
   for (const Job& job : jobs) {
+    const auto done = earlier.find(job.input);
+    if (done != earlier.end() && up_to_date(done->second, r.batch_options, job.input, job.output)) {
+      print_batch_line(job, {{"vmas", version()}, {"input", job.input}, {"output", job.output},
+                             {"skipped", "up to date"}}, settings);
+      continue;
+    }
+    json line;
     try {
-      const json s = run_one(job, settings, ProgressStyle::None);
-      if (settings.json)
-        std::cout << json_line(s) << std::endl;
-      else if (!settings.quiet)
-        std::cout << job.input << " -> " << job.output << ": " << s["spheres"] << " spheres, "
-                  << s["edges"] << " edges, " << s["medial_faces"] << " faces, "
-                  << text_of(s["seconds"]["total"], "%.2f") << " s"
-                  << (s.contains("eval")
-                          ? ", epsilon " + s["eval"]["hausdorff_percent"].dump() + " %"
-                          : std::string())
-                  << (s["warnings"].empty()
-                          ? ""
-                          : ", " + std::to_string(s["warnings"].size()) + " warning(s)")
-                  << std::endl;
+      line = run_one(job, settings, ProgressStyle::None);
     } catch (const std::exception& e) {
       ++failed;
-      const std::string message = e.what();
-      if (settings.json)
-        std::cout << json_line({{"vmas", version()}, {"input", job.input}, {"error", message}})
-                  << std::endl;
-      else
-        std::cout << job.input << ": failed: " << message << std::endl;
+      line = {{"vmas", version()}, {"input", job.input}, {"error", e.what()}};
     }
+    print_batch_line(job, line, settings);
+    keep(line);
   }
   if (failed > 0)
     std::cerr << "vmas skeletonize: " << failed << " of " << jobs.size() << " inputs failed\n";

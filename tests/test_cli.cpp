@@ -2,12 +2,14 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -205,14 +207,100 @@ TEST_F(Cli, BatchKeepsGoingAfterABrokenFile) {
   EXPECT_TRUE(fs::exists(path("out/a.ma")));
 }
 
+// --summary keeps one line per input across runs; --resume skips an input whose line has no error,
+// the same options and an output newer than it, and runs the others again.
+TEST_F(Cli, BatchSummaryKeepsALinePerInputAndResumeSkipsWhatIsDone) {
+  write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
+  write("b.xyz", "1 2\n");
+  write_surface(path("c.off"), test::icosphere(Vec3::Zero(), 1.0, 3));
+  const std::string batch = "skeletonize " + path("a.off") + " " + path("b.xyz") + " " +
+                            path("c.off") + " --output-dir " + path("out") + " --summary " +
+                            path("out/summary.jsonl") + " --json";
+  const auto summary_lines = [&] {
+    std::map<std::string, nlohmann::json> lines;
+    std::istringstream in(read_text(path("out/summary.jsonl")));
+    for (std::string line; std::getline(in, line);) {
+      const nlohmann::json parsed = nlohmann::json::parse(line);
+      lines[parsed["input"].get<std::string>()] = parsed;
+    }
+    return lines;
+  };
+  const auto skipped = [](const Result& r) {
+    std::set<std::string> inputs;
+    std::istringstream in(r.out);
+    for (std::string line; std::getline(in, line);) {
+      const nlohmann::json parsed = nlohmann::json::parse(line);
+      if (parsed.contains("skipped")) inputs.insert(parsed["input"].get<std::string>());
+    }
+    return inputs;
+  };
+  EXPECT_EQ(run(batch + " -n 2").exit_code, 1);
+  auto lines = summary_lines();
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[path("a.off")]["spheres"], 2);
+  EXPECT_EQ(lines[path("a.off")]["batch_options"], nlohmann::json::array({"--spheres=2"}));
+  EXPECT_TRUE(lines[path("b.xyz")].contains("error"));
+
+  // Done, with the same options (--threads does not count): skipped; the broken file again.
+  Result r = run(batch + " --spheres 2 --threads 1 --resume");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(skipped(r), (std::set<std::string>{path("a.off"), path("c.off")}));
+  // An input newer than its output runs again.
+  fs::last_write_time(path("c.off"), fs::last_write_time(path("out/c.ply")) + std::chrono::seconds(5));
+  r = run(batch + " -n 2 --resume");
+  EXPECT_EQ(skipped(r), std::set<std::string>{path("a.off")});
+  // Other options: everything runs, and every line is replaced in place.
+  write_surface(path("b.xyz"), test::icosphere(Vec3::Zero(), 1.0, 2));
+  r = run(batch + " -n 3 --resume");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(skipped(r).empty());
+  lines = summary_lines();
+  ASSERT_EQ(lines.size(), 3u);
+  for (const auto& [input, line] : lines) {
+    EXPECT_EQ(line["spheres"], 3) << input;
+    EXPECT_EQ(line["batch_options"], nlohmann::json::array({"--spheres=3"})) << input;
+  }
+}
+
+// Several vmas merging into one summary at once (GNU parallel, a Slurm array) lose no line.
+TEST_F(Cli, BatchSummaryTakesTheLinesOfRunsAtOnce) {
+  constexpr int kRuns = 4, kInputsPerRun = 8;
+  std::string launches;
+  for (int run = 0; run < kRuns; ++run) {
+    std::string inputs;
+    for (int i = 0; i < kInputsPerRun; ++i) {
+      inputs += " " + path("in" + std::to_string(run) + "_" + std::to_string(i) + ".off");
+      write_surface(inputs.substr(1 + inputs.rfind(' ')), test::icosphere(Vec3::Zero(), 1.0, 1));
+    }
+    launches += std::string(VMAS_CLI) + " skeletonize" + inputs + " -n 2 --threads 1 --output-dir " +
+                path("out") + " --summary " + path("summary.jsonl") + " -q & ";
+  }
+  ASSERT_EQ(std::system(("sh -c '" + launches + "wait'").c_str()), 0);
+  std::istringstream in(read_text(path("summary.jsonl")));
+  std::set<std::string> inputs;
+  for (std::string line; std::getline(in, line);)
+    inputs.insert(nlohmann::json::parse(line)["input"].get<std::string>());
+  EXPECT_EQ(inputs.size(), static_cast<std::size_t>(kRuns * kInputsPerRun));
+}
+
 TEST_F(Cli, BatchUsageErrors) {
   write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
   fs::create_directories(path("sub"));
   write_surface(path("sub/a.off"), test::capsule(0.2, 1.0, 8, 24));
   // Several inputs need a folder; two inputs named alike would overwrite each other.
   EXPECT_EQ(run("skeletonize " + path("a.off") + " " + path("a.off") + " -o x.ply").exit_code, 2);
-  const Result r = run("skeletonize " + path("a.off") + " " + path("sub/a.off") + " --output-dir " +
-                       dir_.string());
+  Result r = run("skeletonize " + path("a.off") + " " + path("sub/a.off") + " -n 2");
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "several INPUTs need --output-dir");
+  // A summary is a batch's; --resume needs one.
+  r = run("skeletonize " + path("a.off") + " -n 2 -o x.ply --summary s.jsonl");
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "--summary goes with several INPUTs or --output-dir");
+  r = run("skeletonize " + path("a.off") + " -n 2 --output-dir " + path("o") + " --resume");
+  EXPECT_EQ(r.exit_code, 2);
+  expect_one_line_error(r, "--resume needs --summary");
+  r = run("skeletonize " + path("a.off") + " " + path("sub/a.off") + " --output-dir " +
+          dir_.string());
   EXPECT_EQ(r.exit_code, 2);
   expect_one_line_error(r, "would both be written");
   // A missing output folder is created, as the batch scripts do.
