@@ -78,6 +78,18 @@ def test_every_command_prints_what_the_schema_says(tmp_path):
                       "--output-dir", str(tmp_path / "out2"), "--json"], 1)
     valid([mixed[0]], "skeletonize")
     valid([mixed[1]], "failure")
+    # A summary file's lines, and an input --resume skips.
+    summary = str(tmp_path / "out2" / "summary.jsonl")
+    again = ["skeletonize", ball, str(tmp_path / "missing.xyz"), "-n", "8", "--output-dir",
+             str(tmp_path / "out2"), "--json", "--summary", summary, "--resume"]
+    lines_of(again, 1)
+    with open(summary) as f:
+        kept = [json.loads(line) for line in f]
+    valid([kept[0]], "skeletonize")
+    valid([kept[1]], "failure")
+    resumed = lines_of(again, 1)
+    valid([resumed[0]], "skipped")
+    valid([resumed[1]], "failure")
     valid(lines_of(["skeletonize", ball, "-n", "0", "-o", out, "--json"], 2), "failure")
     valid(lines_of(["eval", ball, out, "--json"], 0), "eval")
     valid(lines_of(["eval", str(tmp_path / "missing.off"), out, "--json"], 1), "failure")
