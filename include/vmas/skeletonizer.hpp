@@ -260,7 +260,12 @@ class Skeletonizer {
   int sphere_cap() const;  // with an error threshold: max_spheres, and never more than points
   void check_target_fits(const Target& target) const;  // InvalidOption: more spheres than points
   void refresh_errors(bool spheres_moved);  // E(C) and the total; E_v too if spheres moved
-  void fit_and_project(double lambda);      // update (+ projection) of every unfrozen sphere
+  // The same, E_v of the vertices whose sphere `moved` (by sphere; empty: none) refreshed, or of
+  // every vertex when they were not current.
+  void refresh_errors(const std::vector<char>& moved);
+  // Update (+ projection) of every unfrozen, unsettled sphere; returns which moved, whose vertices'
+  // E_v are stale until refresh_errors(moved).
+  std::vector<char> fit_and_project(double lambda);
   bool settled(int cluster, double lambda) const;  // its last fit would give it again, nearly
   void check_id(int id) const;
   void add_key() { keys_.push_back(next_key_++); }  // for a sphere just added

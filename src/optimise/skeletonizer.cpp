@@ -161,7 +161,12 @@ double Skeletonizer::split_error(int cluster) const {
 }
 
 void Skeletonizer::refresh_errors(bool spheres_moved) {
+  refresh_errors(std::vector<char>(spheres_moved ? spheres_.size() : 0, 1));
+}
+
+void Skeletonizer::refresh_errors(const std::vector<char>& moved) {
   const int count = static_cast<int>(spheres_.size());
+  const bool every_vertex = !energies_current_;
   const std::vector<double>& density = shape_.density;
   std::vector<double> cluster_energy(count, 0.0);
   cluster_errors_.assign(count, 0.0);
@@ -169,12 +174,13 @@ void Skeletonizer::refresh_errors(bool spheres_moved) {
   cluster_densities_.assign(density.empty() ? 0 : count, 1.0);
 #pragma omp parallel
   {
-    if (spheres_moved) {
+    if (!moved.empty()) {
       // By vertex, not by cluster: a cluster's members are scattered over the vertex array, and
       // threads writing interleaved entries would keep taking each other's cache lines.
 #pragma omp for schedule(static)
       for (int v = 0; v < shape_.size(); ++v)
-        vertex_energies_[v] = vertex_energy(shape_, v, spheres_[labels_[v]], options_.lambda);
+        if (every_vertex || moved[labels_[v]])
+          vertex_energies_[v] = vertex_energy(shape_, v, spheres_[labels_[v]], options_.lambda);
     }
 #pragma omp for schedule(dynamic)
     for (int c = 0; c < count; ++c) {
@@ -193,7 +199,7 @@ void Skeletonizer::refresh_errors(bool spheres_moved) {
       if (!density.empty()) cluster_densities_[c] = mean.value();
     }
   }
-  if (spheres_moved) energies_current_ = true;
+  if (!moved.empty()) energies_current_ = true;
   total_error_ = 0.0;
   for (double energy : cluster_energy) total_error_ += energy;
   total_error_ /= shape_.total_area;
@@ -204,12 +210,11 @@ double Skeletonizer::step() {
   // A cluster that shrank to a handful of vertices carries no shape information: its sphere is
   // better spent where the error is largest (this keeps the sphere count exact).
   if (reseed_tiny_clusters()) repartition();
-  fit_and_project(options_.lambda);
-  refresh_errors(true);
+  refresh_errors(fit_and_project(options_.lambda));
   return total_error_;
 }
 
-void Skeletonizer::fit_and_project(double lambda) {
+std::vector<char> Skeletonizer::fit_and_project(double lambda) {
   const int count = static_cast<int>(spheres_.size());
   const auto start = Clock::now();
   std::vector<Sphere> fitted = spheres_;
@@ -233,8 +238,10 @@ void Skeletonizer::fit_and_project(double lambda) {
   const double busy = fit_seconds + projection_seconds;
   times_.update += busy > 0.0 ? wall * fit_seconds / busy : wall;
   times_.projection += busy > 0.0 ? wall * projection_seconds / busy : 0.0;
+  std::vector<char> moved(count, 0);
+  for (int c = 0; c < count; ++c) moved[c] = !same_sphere(fitted[c], spheres_[c]);
   spheres_ = std::move(fitted);
-  energies_current_ = false;
+  return moved;
 }
 
 bool Skeletonizer::settled(int cluster, double lambda) const {
@@ -462,8 +469,7 @@ void Skeletonizer::final_refit(int round) {
     for (int attempt = 0; attempt < kFinalReseeds && reseed_tiny_clusters(attempt > 0); ++attempt)
       repartition();
   }
-  fit_and_project(options_.final_lambda);
-  refresh_errors(true);
+  refresh_errors(fit_and_project(options_.final_lambda));
 }
 
 void Skeletonizer::check_id(int id) const {
