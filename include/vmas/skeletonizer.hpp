@@ -278,6 +278,7 @@ class Skeletonizer {
   std::vector<std::uint64_t> keys_;
   std::uint64_t next_key_ = 0;
   std::vector<int> labels_;
+  std::vector<Sphere> partitioned_spheres_;  // those labels_ are the best of (see partition())
   std::vector<double> vertex_energies_;
   bool energies_current_ = false;  // vertex_energies_ hold E_v of every vertex's sphere as it is
   std::vector<std::vector<int>> members_;

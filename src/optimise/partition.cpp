@@ -33,10 +33,24 @@ void near_spheres(const std::vector<Sphere>& spheres, const Vec3& center, double
   }
 }
 
+// The spheres other than those of `partitioned` (by index; new ones too), as a mask and a list.
+void changed_spheres(const std::vector<Sphere>& spheres, const std::vector<Sphere>& partitioned,
+                     std::vector<char>& mask, std::vector<int>& list) {
+  mask.assign(spheres.size(), 0);
+  for (std::size_t m = 0; m < spheres.size(); ++m) {
+    const bool same = m < partitioned.size() && spheres[m].center == partitioned[m].center &&
+                      spheres[m].radius == partitioned[m].radius;
+    if (same) continue;
+    mask[m] = 1;
+    list.push_back(static_cast<int>(m));
+  }
+}
+
 }  // namespace
 
 void partition(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
-               std::vector<int>& labels, std::vector<double>& energies, bool energies_current) {
+               std::vector<int>& labels, std::vector<double>& energies, bool energies_current,
+               const std::vector<Sphere>* partitioned) {
   if (spheres.empty()) throw InvalidInput("cannot partition a shape among zero spheres");
   const int n = shape.size();
   const VertexBlocks& blocks = shape.blocks;
@@ -49,6 +63,10 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
   energies.resize(n);
   std::vector<int> all(count);
   std::iota(all.begin(), all.end(), 0);
+  const bool incremental = energies_current && partitioned;
+  std::vector<char> changed;
+  std::vector<int> changed_list;
+  if (incremental) changed_spheres(spheres, *partitioned, changed, changed_list);
   const int groups = (blocks.size() + kBlocksPerGroup - 1) / kBlocksPerGroup;
 #pragma omp parallel
   {
@@ -65,6 +83,7 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
       // Euclidean term above each of those energies, so the exhaustive scan would skip it.
       reaches.assign(end - begin, 0.0);
       Vec3 center = Vec3::Zero();
+      bool touched = !incremental;  // a vertex's sphere changed (or it has none)
       for (int b = begin; b < end; ++b) {
         double& reach = reaches[b - begin];
         for (int i = blocks.offsets[b]; i < blocks.offsets[b + 1]; ++i) {
@@ -72,8 +91,11 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
           if (labels[v] < 0 || labels[v] >= count) {
             labels[v] = 0;
             energies[v] = vertex_energy(shape, v, spheres[0], lambda);
+            touched = true;
           } else if (!energies_current) {
             energies[v] = vertex_energy(shape, v, spheres[labels[v]], lambda);
+          } else if (incremental && changed[labels[v]]) {
+            touched = true;
           }
           const double distance = std::sqrt(std::max(energies[v], 0.0) / (lambda * shape.area[v]));
           if (!(distance <= reach))
@@ -85,8 +107,12 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
       double radius = 0.0;  // of a ball around every block of the group
       for (int b = begin; b < end; ++b)
         radius = std::max(radius, (blocks.centers[b] - center).norm() + blocks.radii[b]);
-      near_spheres(spheres, center, radius, *std::max_element(reaches.begin(), reaches.end()), all,
-                   group_candidates);
+      const double group_reach = *std::max_element(reaches.begin(), reaches.end());
+      if (!touched) {
+        near_spheres(spheres, center, radius, group_reach, changed_list, group_candidates);
+        if (group_candidates.empty()) continue;
+      }
+      near_spheres(spheres, center, radius, group_reach, all, group_candidates);
 
       for (int b = begin; b < end; ++b) {
         near_spheres(spheres, blocks.centers[b], blocks.radii[b], reaches[b - begin],

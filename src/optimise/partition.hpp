@@ -23,9 +23,11 @@ inline double vertex_energy(const Shape& shape, int v, const Sphere& m, double l
 // energy found: for groups of blocks of nearby vertices (shape.blocks) at once, then per block,
 // then per vertex. Parallel over groups; the result does not depend on the thread count.
 // `energies_current`: `energies` already hold E_v of each vertex's labelled sphere (they are not
-// recomputed then).
+// recomputed then). `partitioned` (with energies_current): the spheres that `labels` were the
+// best of; a group of blocks none of whose vertices' spheres changed since, and near which no
+// changed sphere passes, keeps its labels (every other sphere lost to them before).
 void partition(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
                std::vector<int>& labels, std::vector<double>& energies,
-               bool energies_current = false);
+               bool energies_current = false, const std::vector<Sphere>* partitioned = nullptr);
 
 }  // namespace vmas

@@ -104,7 +104,9 @@ Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
 
 void Skeletonizer::repartition() {
   const auto start = Clock::now();
-  partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_, energies_current_);
+  partition(shape_, spheres_, options_.lambda, labels_, vertex_energies_, energies_current_,
+            &partitioned_spheres_);
+  partitioned_spheres_ = spheres_;
   energies_current_ = true;
   rebuild_members();
   times_.partition += seconds_since(start);
@@ -553,6 +555,7 @@ void Skeletonizer::restore(const SkeletonizerState& state) {
                   [&](int label) { return label < 0 || label >= count; }))
     throw InvalidArgument("not a state of this skeletonizer's shape");
   spheres_ = state.spheres;
+  partitioned_spheres_.clear();  // the state's labels were the best of other spheres
   frozen_ = state.frozen;
   labels_ = state.labels;
   if (static_cast<int>(state.keys.size()) == count) {
