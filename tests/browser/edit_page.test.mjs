@@ -11,7 +11,8 @@
 // point ringed (still ringed, dashed and labelled behind, where the view is turned so that the
 // model hides it; on a mesh, on an opaque surface: a second vmas), at a 300 000-point cloud (a
 // third vmas) a hover tests a few hundred points and picks what testing all of them picks, W
-// saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
+// saves (finished) and downloads the PLY of the page's spheres (no -o), the page's ε is `vmas
+// eval`'s of the saved file (run by the test), the .ma button a
 // .ma file, B turns the density brush on (the points coloured by density, a legend, a ring as wide
 // as a stroke reaches), a click paints a stroke that /api/density shows and Ctrl-Z takes back, a
 // drag paints throttled strokes (shift: taking away) while only the right button turns the view,
@@ -29,7 +30,7 @@
 //   VMAS_SCREENSHOT  where the screenshot of the page goes (default TMP/edit.png, TMP kept)
 //   KEEPTMP=1        keep the temporary folder (input, saved skeleton, download, vmas's stderr)
 // Prints one line per check and ends with 'N passed, N failed, N skipped'; exits 1 on a failure.
-import { spawn } from 'node:child_process';
+import { execFile, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
@@ -268,7 +269,7 @@ async function main() {
     'turned so that the model hides the worst point, its ring stays, dashed and labelled behind',
     'on a mesh, E shows the map on an opaque surface',
     'at a big cloud a hover tests the points near the ray only, and picks as testing them all does',
-    'W saves the skeleton and downloads it',
+    'W saves the skeleton and downloads it', 'the page\'s ε is vmas eval\'s of the saved skeleton',
     'the .ma button downloads the skeleton as a .ma file',
     'B turns the density brush on: the points coloured by density, its legend, the hint, a ring as wide as a stroke reaches',
     'a click paints one stroke there (no selection), /api/density and the colours follow; Ctrl-Z takes it back',
@@ -942,7 +943,7 @@ async function main() {
     return `${moving} of ${all} points while turning, ${stopped} once stopped`;
   });
 
-  let finished = null;  // A and B of the status line's 'finished: measured error A % → B %'
+  let finished = null;  // A and B of the status line's 'finished: A % → B % … by the refinement's measure'
   await check('finish refines and pauses', async () => {
     const before = sphereCount(await statusText());
     const request = nextEdit('finish', WAIT_MS);
@@ -951,8 +952,8 @@ async function main() {
     if (!sent) fail('the finish button sent no finish edit');
     const reply = await sent.response();
     if (!reply.ok()) fail(`finish refused: ${reply.status()} ${await reply.text()}`);
-    const pattern = /\nfinished: measured error (\d+(?:\.\d+)?) % → (\d+(?:\.\d+)?) % of the diagonal/;
-    await waitForStatus(pattern, '\'finished: measured error A % → B %\' on the status line', FINISH_MS);
+    const pattern = /\nfinished: (\d+(?:\.\d+)?) % → (\d+(?:\.\d+)?) % of the diagonal by the refinement's measure/;
+    await waitForStatus(pattern, '\'finished: A % → B % … by the refinement\'s measure\' on the status line', FINISH_MS);
     const [, a, b] = pattern.exec(status).map(Number);
     if (!(b <= a + 1e-9)) fail(`the finish made the error worse: ${a} % → ${b} %; status '${status}'`);
     const after = sphereCount(status);
@@ -1226,6 +1227,32 @@ async function main() {
     await page.keyboard.press('-');
     noPageErrors();
     return `${spheres.length} spheres in the download, as on the page (within ${farthest.toExponential(1)}), finished at ${reply.error_percent.toFixed(2)} %; 'unsaved changes' after +`;
+  });
+
+  await check('the page\'s ε is vmas eval\'s of the saved skeleton', async () => {
+    // Unsaved since the last check's edits: W finishes again and saves.
+    const download = page.waitForEvent('download', { timeout: WAIT_MS });
+    await page.keyboard.press('w');
+    const saved = path.join(tmp, 'saved_for_eval.ply');
+    await (await download).saveAs(saved);
+    const evaluated = await new Promise((resolve, reject) =>
+      execFile(vmasBinary, ['eval', input, saved, '--json'], (error, stdout, stderr) =>
+        error ? reject(new Error(`vmas eval failed: ${stderr}`)) : resolve(JSON.parse(stdout))));
+    const expected = evaluated.hausdorff_percent.toFixed(2);
+    // The page's ε is measured once the saved skeleton holds still (a fraction of a second here),
+    // and is then not said to be older than the last edit (the edits before the save were made
+    // while paused, at the step the figure names).
+    const pattern = / ε (\d+\.\d+) % \(step \d+(, before the last edit)?\)/;
+    let shown = null;
+    for (const deadline = Date.now() + 15_000; ; await page.waitForTimeout(100)) {
+      const [, percent, old] = pattern.exec(await statusText()) || [];
+      shown = percent;
+      if (percent === expected && !old) break;
+      if (Date.now() > deadline)
+        fail(`the page says '${(await statusText()).split('\n')[0]}'; vmas eval of the saved file: ${evaluated.hausdorff_percent} %`);
+    }
+    noPageErrors();
+    return `ε ${shown} % on the page, vmas eval ${evaluated.hausdorff_percent} %; '${(await statusText()).split('\n')[0]}'`;
   });
 
   await check('the .ma button downloads the skeleton as a .ma file', async () => {
