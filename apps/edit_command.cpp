@@ -82,6 +82,7 @@ class SaveMeasure {
     double percent = -1.0;  // < 0: none yet
     int iteration = -1;     // the session's step it measured
     std::uint64_t count = 0;  // measurements so far
+    std::vector<double> spheres;  // what it measured, flat: x y z r each (working frame)
   };
 
   SaveMeasure(SurfaceInput input, const EditSession& session, const Frame& frame)
@@ -123,7 +124,7 @@ class SaveMeasure {
       measured = std::move(spheres);
       measured_at = s.measured_at_iteration;
       const std::lock_guard<std::mutex> lock(mutex_);
-      latest_ = {result.percent(result.hausdorff), s.iteration, latest_.count + 1};
+      latest_ = {result.percent(result.hausdorff), s.iteration, latest_.count + 1, measured};
     }
   }
 
@@ -210,9 +211,11 @@ json preparation_summary(const Result& prepared, int points) {
 json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame,
                    const SaveMeasure::Figure& save_measure) {
   json spheres = json::array();
+  std::vector<double> flat;  // as SaveMeasure keeps them: whether ε is of these spheres
   for (const Sphere& sphere : s.spheres) {
     const Vec3 center = frame.to_input(sphere.center);
     spheres.push_back({center.x(), center.y(), center.z(), frame.scale * sphere.radius});
+    flat.insert(flat.end(), {sphere.center.x(), sphere.center.y(), sphere.center.z(), sphere.radius});
   }
   json message = {{"version", s.version},
                   {"iteration", s.iteration},
@@ -235,6 +238,8 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"measured_at_iteration", s.measured_at_iteration},
                   {"save_error_percent", save_measure.percent},
                   {"save_error_at_iteration", save_measure.iteration},
+                  // An edit while paused leaves the step as it was: the step cannot say this.
+                  {"save_error_is_current", save_measure.count > 0 && save_measure.spheres == flat},
                   {"density_changes", s.density_changes},
                   {"keys", s.keys},
                   {"frozen", s.frozen},

@@ -7,8 +7,12 @@
 // Ctrl-Z / Ctrl-Shift-Z take each back and
 // make it again, quick + presses add up, the spheres are one draw call and the mouse picks the
 // one in front, a clicked sphere gains an outline and keeps its palette colour (frozen: a dashed
-// one), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
-// point ringed (on a mesh, on an opaque surface: a second vmas), W saves (finished) and downloads the PLY of the page's spheres (no -o), the .ma button a
+// one), the medial mesh's faces are a neutral grey (not the selection's colours), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
+// point ringed (still ringed, dashed and labelled behind, where the view is turned so that the
+// model hides it; on a mesh, on an opaque surface: a second vmas), at a 300 000-point cloud (a
+// third vmas) a hover tests a few hundred points and picks what testing all of them picks, W
+// saves (finished) and downloads the PLY of the page's spheres (no -o), the page's ε is `vmas
+// eval`'s of the saved file (run by the test), the .ma button a
 // .ma file, B turns the density brush on (the points coloured by density, a legend, a ring as wide
 // as a stroke reaches), a click paints a stroke that /api/density shows and Ctrl-Z takes back, a
 // drag paints throttled strokes (shift: taking away) while only the right button turns the view,
@@ -26,7 +30,7 @@
 //   VMAS_SCREENSHOT  where the screenshot of the page goes (default TMP/edit.png, TMP kept)
 //   KEEPTMP=1        keep the temporary folder (input, saved skeleton, download, vmas's stderr)
 // Prints one line per check and ends with 'N passed, N failed, N skipped'; exits 1 on a failure.
-import { spawn } from 'node:child_process';
+import { execFile, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
@@ -258,11 +262,15 @@ async function main() {
     'shift-drag selects the spheres in a box, the freeze button freezes them; undo, redo',
     'the spheres are one draw call, and the mouse picks the sphere in front',
     'a clicked sphere keeps its palette colour and gains an outline; F freezes it: a dashed outline',
+    'the medial mesh\'s faces are a neutral grey: not the selection\'s gold, nor the outlines\' white',
     'turning the view, a big cloud is drawn coarser, and whole once the view stops',
     'finish refines and pauses', 'E colours the points by their distance to the skeleton, and back',
     'E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both',
+    'turned so that the model hides the worst point, its ring stays, dashed and labelled behind',
     'on a mesh, E shows the map on an opaque surface',
-    'W saves the skeleton and downloads it', 'the .ma button downloads the skeleton as a .ma file',
+    'at a big cloud a hover tests the points near the ray only, and picks as testing them all does',
+    'W saves the skeleton and downloads it', 'the page\'s ε is vmas eval\'s of the saved skeleton',
+    'the .ma button downloads the skeleton as a .ma file',
     'B turns the density brush on: the points coloured by density, its legend, the hint, a ring as wide as a stroke reaches',
     'a click paints one stroke there (no selection), /api/density and the colours follow; Ctrl-Z takes it back',
     'a drag paints a stroke per half radius moved, a few a second; shift-drag takes away; only the right button turns the view',
@@ -896,6 +904,22 @@ async function main() {
     }
   });
 
+  await check('the medial mesh\'s faces are a neutral grey: not the selection\'s gold, nor the outlines\' white', async () => {
+    // The selection's colours as the page draws them: its box and its label (gold), the outlines
+    // of selected and frozen spheres (white).
+    const colours = await page.evaluate(() => {
+      const css = (id, property) => new THREE.Color(getComputedStyle(document.getElementById(id))[property]);
+      const hsl = faceMesh.material.color.getHSL({});
+      return { faces: faceMesh.material.color.getHexString(), saturation: hsl.s,
+               selection: [css('box', 'borderTopColor'), css('sphere-label', 'color'), new THREE.Color(1, 1, 1)].map((c) => c.getHexString()),
+               far: Math.min(...[css('box', 'borderTopColor'), css('sphere-label', 'color'), new THREE.Color(1, 1, 1)].map((c) =>
+                 Math.max(...['r', 'g', 'b'].map((k) => Math.abs(c[k] - faceMesh.material.color[k]))))) };
+    });
+    if (!(colours.far >= 0.2)) fail(`the faces are #${colours.faces}, within ${colours.far.toFixed(2)} of the selection's #${colours.selection.join(', #')}`);
+    if (!(colours.saturation <= 0.1)) fail(`the faces are #${colours.faces}, not neutral (saturation ${colours.saturation.toFixed(2)})`);
+    return `faces #${colours.faces}; selection #${colours.selection.join(', #')}`;
+  });
+
   await check('turning the view, a big cloud is drawn coarser, and whole once the view stops', async () => {
     // Above movingPoints points (VMAS_BROWSER_POINTS), every k-th is drawn while the view turns.
     const { budget, all } = await page.evaluate(() => ({ budget: movingPoints, all: pointCloud.geometry.attributes.position.count }));
@@ -919,7 +943,7 @@ async function main() {
     return `${moving} of ${all} points while turning, ${stopped} once stopped`;
   });
 
-  let finished = null;  // A and B of the status line's 'finished: measured error A % → B %'
+  let finished = null;  // A and B of the status line's 'finished: A % → B % … by the refinement's measure'
   await check('finish refines and pauses', async () => {
     const before = sphereCount(await statusText());
     const request = nextEdit('finish', WAIT_MS);
@@ -928,8 +952,8 @@ async function main() {
     if (!sent) fail('the finish button sent no finish edit');
     const reply = await sent.response();
     if (!reply.ok()) fail(`finish refused: ${reply.status()} ${await reply.text()}`);
-    const pattern = /\nfinished: measured error (\d+(?:\.\d+)?) % → (\d+(?:\.\d+)?) % of the diagonal/;
-    await waitForStatus(pattern, '\'finished: measured error A % → B %\' on the status line', FINISH_MS);
+    const pattern = /\nfinished: (\d+(?:\.\d+)?) % → (\d+(?:\.\d+)?) % of the diagonal by the refinement's measure/;
+    await waitForStatus(pattern, '\'finished: A % → B % … by the refinement\'s measure\' on the status line', FINISH_MS);
     const [, a, b] = pattern.exec(status).map(Number);
     if (!(b <= a + 1e-9)) fail(`the finish made the error worse: ${a} % → ${b} %; status '${status}'`);
     const after = sphereCount(status);
@@ -969,6 +993,30 @@ async function main() {
     return `largest ${largest} % of the diagonal`;
   });
 
+  // The worst point of the error map the page fetched, found here: its distance, where it is on
+  // the screen, and whether the model hides it (testing every point: the first one within the
+  // page's pick reach of the eye's ray to it is nearer by more than four reaches).
+  const worstPoint = () => page.evaluate(() => {
+    let vertex = 0;
+    state.errors.forEach((error, v) => { if (error > state.errors[vertex]) vertex = v; });
+    const at = new THREE.Vector3().fromArray(state.points, 3 * vertex), reach = state.diagonal / 200;
+    const caster = new THREE.Raycaster(camera.position, at.clone().sub(camera.position).normalize());
+    caster.params.Points.threshold = reach;
+    const [first] = caster.intersectObject(pointCloud);
+    const behind = !!first && first.distance < camera.position.distanceTo(at) - 4 * reach;
+    const p = at.clone().project(camera);
+    return { percent: (100 * state.errors[vertex]).toFixed(2), half: (50 * state.errors[vertex]).toFixed(2),
+             x: (p.x + 1) / 2 * innerWidth, y: (1 - p.y) / 2 * innerHeight, behind };
+  });
+  // Waits until the error map is fetched and said on the page (E turned it on).
+  const waitForErrorMap = async () => {
+    for (const deadline = Date.now() + WAIT_MS; !/error map: .* red /.test(await page.textContent('#message'));) {
+      if (Date.now() > deadline) fail(`no error map ${WAIT_MS / 1000} s after E: #message '${await page.textContent('#message')}'`);
+      await page.waitForTimeout(50);
+    }
+    await nextFrame();
+  };
+
   await check('E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both', async () => {
     if (await shown('#legend') || await shown('#worst')) fail('the legend or the worst point is shown with the map off');
     await page.keyboard.press('e');
@@ -977,19 +1025,8 @@ async function main() {
       await page.waitForTimeout(50);
     }
     // The map fetched (E fetches it again): the message says its range.
-    for (const deadline = Date.now() + WAIT_MS; !/error map: .* red /.test(await page.textContent('#message'));) {
-      if (Date.now() > deadline) fail(`no error map ${WAIT_MS / 1000} s after E: #message '${await page.textContent('#message')}'`);
-      await page.waitForTimeout(50);
-    }
-    await nextFrame();
-    // The worst point and its distance, from the distances the page fetched.
-    const worst = await page.evaluate(() => {
-      let vertex = 0;
-      state.errors.forEach((error, v) => { if (error > state.errors[vertex]) vertex = v; });
-      const p = new THREE.Vector3().fromArray(state.points, 3 * vertex).project(camera);
-      return { percent: (100 * state.errors[vertex]).toFixed(2), half: (50 * state.errors[vertex]).toFixed(2),
-               x: (p.x + 1) / 2 * innerWidth, y: (1 - p.y) / 2 * innerHeight };
-    });
+    await waitForErrorMap();
+    const worst = await worstPoint();
     const legend = await page.evaluate(() => ({
       middle: document.getElementById('legend-middle').textContent, largest: document.getElementById('legend-largest').textContent,
       bar: getComputedStyle(document.getElementById('legend-bar')).backgroundImage }));
@@ -1004,12 +1041,50 @@ async function main() {
     if (Math.hypot(mx - worst.x, my - worst.y) > 1.5)
       fail(`the worst point's ring is centred at (${mx.toFixed(1)}, ${my.toFixed(1)}), the point is at (${worst.x.toFixed(1)}, ${worst.y.toFixed(1)})`);
     const label = (await page.textContent('#worst')).trim();
-    if (label !== `worst ${worst.percent} %`) fail(`the worst point is labelled '${label}'`);
+    if (label !== `worst ${worst.percent} %${worst.behind ? ' (behind)' : ''}`)
+      fail(`the worst point is labelled '${label}'; the model ${worst.behind ? 'hides' : 'does not hide'} it`);
     await page.keyboard.press('e');
     await nextFrame();
     if (await shown('#legend') || await shown('#worst')) fail('a second E leaves the legend or the worst point shown');
     noPageErrors();
     return `0 … ${legend.middle} … ${legend.largest}; '${label}' at (${Math.round(mx)}, ${Math.round(my)})`;
+  });
+
+  await check('turned so that the model hides the worst point, its ring stays, dashed and labelled behind', async () => {
+    await page.keyboard.press('e');
+    await waitForErrorMap();
+    // Eighth turns of the view (a 100 px drag turns it by 45°) until the model hides the point.
+    const [x, y] = [VIEWPORT.width * 0.7, VIEWPORT.height * 0.7];
+    let worst = await worstPoint(), turns = 0;
+    try {
+      for (; !worst.behind && turns < 8; ++turns) {
+        await page.mouse.move(x, y);
+        await page.mouse.down();
+        try {
+          await page.mouse.move(x + 100, y, { steps: 4 });
+        } finally {
+          await page.mouse.up();
+        }
+        await nextFrame();
+        await nextFrame();
+        worst = await worstPoint();
+      }
+      if (!worst.behind) fail('no eighth turn of the view hides the worst point behind the model');
+      if (!(await shown('#worst'))) fail(`the model hides the worst point (${turns} turns) and its ring is not shown`);
+      const marker = await page.locator('#worst').boundingBox();
+      const [mx, my] = [marker.x + marker.width / 2, marker.y + marker.height / 2];
+      if (Math.hypot(mx - worst.x, my - worst.y) > 1.5)
+        fail(`the hidden worst point's ring is at (${mx.toFixed(1)}, ${my.toFixed(1)}), the point at (${worst.x.toFixed(1)}, ${worst.y.toFixed(1)})`);
+      const label = (await page.textContent('#worst')).trim();
+      const border = await page.locator('#worst').evaluate((e) => getComputedStyle(e).borderTopStyle);
+      if (label !== `worst ${worst.percent} % (behind)` || border !== 'dashed')
+        fail(`the hidden worst point's ring is labelled '${label}', its border ${border}`);
+      noPageErrors();
+      return `after ${turns} eighth turn(s): '${label}', ${border}`;
+    } finally {
+      await page.keyboard.press('v');
+      await page.keyboard.press('e');
+    }
   });
 
   await check('on a mesh, E shows the map on an opaque surface', async () => {
@@ -1045,6 +1120,72 @@ async function main() {
     } finally {
       await meshPage.close();
       meshVmas.kill('SIGINT');
+      await exited;
+    }
+  });
+
+  await check('at a big cloud a hover tests the points near the ray only, and picks as testing them all does', async () => {
+    // A second vmas on a 300 000-point torus (thinned to about 100 000), and a page of its own.
+    const big = path.join(tmp, 'big_torus.xyz');
+    writeTorus(big, 300_000);
+    const bigVmas = spawn(vmasBinary, ['edit', big, '--spheres', '8', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    const exited = new Promise((resolve) => bigVmas.on('exit', (code, signal) => resolve(signal || code)));
+    const bigPage = await page.context().newPage();
+    await bigPage.setViewportSize(VIEWPORT);
+    bigPage.on('pageerror', (error) => pageErrors.push(`uncaught (big page): ${error.message}`));
+    try {
+      const bigUrl = await Promise.race([
+        new Promise((resolve) => readline.createInterface({ input: bigVmas.stdout }).once('line', resolve)),
+        exited.then((how) => fail(`vmas on the big cloud exited (${how}) before printing a URL`)),
+        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the big cloud after ${WAIT_MS / 1000} s`)), WAIT_MS)),
+      ]);
+      await bigPage.goto(bigUrl, { waitUntil: 'load' });
+      await bigPage.waitForFunction(() => typeof last !== 'undefined' && last && state.labels.some((l) => l >= 0),
+                                    null, { timeout: WAIT_MS });
+      // Paused, the spheres hidden: what is hovered is the picked point's sphere, labels still.
+      await bigPage.keyboard.press(' ');
+      await bigPage.waitForFunction(() => last.paused, null, { timeout: WAIT_MS });
+      await bigPage.keyboard.press('h');
+      // Where some of the points are on the screen, and a corner with none.
+      const spots = await bigPage.evaluate(() => {
+        const n = state.labels.length, p = new THREE.Vector3(), list = [];
+        const panel = document.getElementById('panel').getBoundingClientRect();
+        for (let k = 1; k <= 24; ++k) {
+          p.fromArray(state.points, 3 * Math.floor(k * n / 25)).project(camera);
+          const [x, y] = [(p.x + 1) / 2 * innerWidth, (1 - p.y) / 2 * innerHeight];
+          if (x > 10 && x < innerWidth - 10 && y > 10 && y < innerHeight - 10 && !(x < panel.right + 10 && y < panel.bottom + 10))
+            list.push([Math.round(x), Math.round(y)]);
+        }
+        return [...list.slice(0, 6), [innerWidth - 5, innerHeight - 5]];
+      });
+      let most = 0, all = 0, hits = 0;
+      for (const [x, y] of spots) {
+        await bigPage.mouse.move(x, y);
+        const seen = await bigPage.evaluate(([x, y]) => {
+          const caster = new THREE.Raycaster();
+          caster.setFromCamera(new THREE.Vector2(x / innerWidth * 2 - 1, -(y / innerHeight) * 2 + 1), camera);
+          caster.params.Points.threshold = state.diagonal / 200;
+          const [first] = caster.intersectObject(pointCloud);
+          const vertex = first ? first.index : -1;
+          return { vertex, hovered: state.hoveredVertex, sphere: vertex >= 0 ? state.keys[state.labels[vertex]] : -1,
+                   status: document.getElementById('status').textContent, tested: window.pointsTested, all: state.labels.length };
+        }, [x, y]);
+        const said = / hovered sphere (\d+)/.exec(seen.status);
+        if (seen.hovered !== seen.vertex || (said ? Number(said[1]) : -1) !== seen.sphere)
+          fail(`at (${x}, ${y}) the page hovers point ${seen.hovered} ('${seen.status.split('\n')[0]}'); ` +
+               `testing every point finds ${seen.vertex}, of sphere ${seen.sphere}`);
+        if (!(seen.tested <= 100_000 && seen.tested <= seen.all / 10))
+          fail(`a hover at (${x}, ${y}) tested ${seen.tested} of ${seen.all} points`);
+        most = Math.max(most, seen.tested);
+        all = seen.all;
+        hits += seen.vertex >= 0 ? 1 : 0;
+      }
+      if (hits < 3) fail(`only ${hits} of ${spots.length} positions over the cloud hit a point`);
+      noPageErrors();
+      return `${hits} hovers on points as testing all ${all} would pick, at most ${most} tested`;
+    } finally {
+      await bigPage.close();
+      bigVmas.kill('SIGINT');
       await exited;
     }
   });
@@ -1086,6 +1227,32 @@ async function main() {
     await page.keyboard.press('-');
     noPageErrors();
     return `${spheres.length} spheres in the download, as on the page (within ${farthest.toExponential(1)}), finished at ${reply.error_percent.toFixed(2)} %; 'unsaved changes' after +`;
+  });
+
+  await check('the page\'s ε is vmas eval\'s of the saved skeleton', async () => {
+    // Unsaved since the last check's edits: W finishes again and saves.
+    const download = page.waitForEvent('download', { timeout: WAIT_MS });
+    await page.keyboard.press('w');
+    const saved = path.join(tmp, 'saved_for_eval.ply');
+    await (await download).saveAs(saved);
+    const evaluated = await new Promise((resolve, reject) =>
+      execFile(vmasBinary, ['eval', input, saved, '--json'], (error, stdout, stderr) =>
+        error ? reject(new Error(`vmas eval failed: ${stderr}`)) : resolve(JSON.parse(stdout))));
+    const expected = evaluated.hausdorff_percent.toFixed(2);
+    // The page's ε is measured once the saved skeleton holds still (a fraction of a second here),
+    // and is then not said to be older than the last edit (the edits before the save were made
+    // while paused, at the step the figure names).
+    const pattern = / ε (\d+\.\d+) % \(step \d+(, before the last edit)?\)/;
+    let shown = null;
+    for (const deadline = Date.now() + 15_000; ; await page.waitForTimeout(100)) {
+      const [, percent, old] = pattern.exec(await statusText()) || [];
+      shown = percent;
+      if (percent === expected && !old) break;
+      if (Date.now() > deadline)
+        fail(`the page says '${(await statusText()).split('\n')[0]}'; vmas eval of the saved file: ${evaluated.hausdorff_percent} %`);
+    }
+    noPageErrors();
+    return `ε ${shown} % on the page, vmas eval ${evaluated.hausdorff_percent} %; '${(await statusText()).split('\n')[0]}'`;
   });
 
   await check('the .ma button downloads the skeleton as a .ma file', async () => {
