@@ -370,6 +370,23 @@ std::vector<std::string> options_shaping_outputs(const std::vector<po::option>& 
   return shaping;
 }
 
+// Usage errors in what the inputs are and where their outputs go.
+void check_destinations(const Request& r) {
+  if (r.inputs.empty()) throw po::error("missing INPUT");
+  if (r.batch && !r.output.empty())
+    throw po::error("give --output-dir for several inputs (--output names one file)");
+  if (r.batch && r.output_dir.empty()) throw po::error("several INPUTs need --output-dir");
+  if (!r.batch && r.output.empty()) throw po::error("missing --output");
+  if (!r.batch && !r.summary_path.empty())
+    throw po::error("--summary goes with several INPUTs or --output-dir");
+  if (r.resume && r.summary_path.empty()) throw po::error("--resume needs --summary FILE");
+  if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
+  const bool from_stdin = std::any_of(r.inputs.begin(), r.inputs.end(), is_standard_stream);
+  if (from_stdin && r.batch) throw po::error("INPUT - (standard input) takes one INPUT");
+  if (is_standard_stream(r.labels_path))
+    throw po::error("--labels needs a file (- is not supported)");
+}
+
 // The command line read and checked; nothing when it asked for --help (printed).
 std::optional<Request> read_request(int argc, const char* const* argv) {
   Request r;
@@ -422,18 +439,10 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
     const std::vector<std::string> listed = read_input_list(r.inputs_list);
     r.inputs.insert(r.inputs.end(), listed.begin(), listed.end());
   }
-  if (r.inputs.empty()) throw po::error("missing INPUT");
   r.batch = r.inputs.size() > 1 || !r.output_dir.empty();
-  if (r.batch && !r.output.empty())
-    throw po::error("give --output-dir for several inputs (--output names one file)");
-  if (r.batch && r.output_dir.empty()) throw po::error("several INPUTs need --output-dir");
-  if (!r.batch && r.output.empty()) throw po::error("missing --output");
-  if (!r.batch && !r.summary_path.empty())
-    throw po::error("--summary goes with several INPUTs or --output-dir");
   r.resume = vm.count("resume") > 0;
-  if (r.resume && r.summary_path.empty()) throw po::error("--resume needs --summary FILE");
   r.batch_options = options_shaping_outputs(given);
-  if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
+  check_destinations(r);
   finish_run_options(vm, run_values);
   settings.options = run_values.options;
   settings.density = run_values.density;
@@ -446,11 +455,7 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
   const std::string& format = settings.output_format;
   if (format != "ply" && format != "ma")
     throw InvalidOption("--format must be ply or ma (got '" + format + "')");
-  const bool from_stdin = std::any_of(r.inputs.begin(), r.inputs.end(), is_standard_stream);
-  if (from_stdin && r.batch) throw po::error("INPUT - (standard input) takes one INPUT");
   check_standard_input(r.inputs, settings.input_format);
-  if (is_standard_stream(r.labels_path))
-    throw po::error("--labels needs a file (- is not supported)");
   return r;
 }
 

@@ -33,6 +33,22 @@ void near_spheres(const std::vector<Sphere>& spheres, const Vec3& center, double
   }
 }
 
+// Vertex v's best sphere: the exhaustive scan in sphere order, restricted to the candidates,
+// from its label and energy as they are.
+void assign_best(const Shape& shape, const std::vector<Sphere>& spheres, double lambda,
+                 const std::vector<int>& candidates, int v, int& label, double& energy) {
+  for (int m : candidates) {
+    if (m == label) continue;
+    const double bound = euclidean_energy(shape, v, spheres[m], lambda);
+    if (bound > energy || (bound == energy && m > label)) continue;
+    const double candidate = bound + shape.quadric[v](spheres[m]);
+    if (candidate < energy || (candidate == energy && m < label)) {
+      label = m;
+      energy = candidate;
+    }
+  }
+}
+
 // The spheres other than those of `partitioned` (by index; new ones too), as a mask and a list.
 void changed_spheres(const std::vector<Sphere>& spheres, const std::vector<Sphere>& partitioned,
                      std::vector<char>& mask, std::vector<int>& list) {
@@ -117,23 +133,9 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
       for (int b = begin; b < end; ++b) {
         near_spheres(spheres, blocks.centers[b], blocks.radii[b], reaches[b - begin],
                      group_candidates, candidates);
-        // The exhaustive scan in sphere order, restricted to the candidates.
         for (int i = blocks.offsets[b]; i < blocks.offsets[b + 1]; ++i) {
           const int v = blocks.vertices[i];
-          int best = labels[v];
-          double best_energy = energies[v];
-          for (int m : candidates) {
-            if (m == best) continue;
-            const double bound = euclidean_energy(shape, v, spheres[m], lambda);
-            if (bound > best_energy || (bound == best_energy && m > best)) continue;
-            const double energy = bound + shape.quadric[v](spheres[m]);
-            if (energy < best_energy || (energy == best_energy && m < best)) {
-              best = m;
-              best_energy = energy;
-            }
-          }
-          labels[v] = best;
-          energies[v] = best_energy;
+          assign_best(shape, spheres, lambda, candidates, v, labels[v], energies[v]);
         }
       }
     }
