@@ -212,6 +212,11 @@ class Skeletonizer {
   // fits to come; InvalidArgument when it is not one value per vertex, finite and >= 0, some > 0.
   void set_density(std::vector<double> density);
   bool wants_more_spheres() const;  // below the count target, or clusters above the threshold
+  // Interactive use (EditSession): steps pass over settled spheres, whose members are those of
+  // their last fit and which that fit and projection moved by rounding at most, so that a
+  // settled skeleton's step costs about its partition. Off by default: a run would then follow
+  // other roundings, and its result with them.
+  void pass_over_settled(bool on) { pass_over_settled_ = on; }
 
   SkeletonizerState state() const { return {spheres_, frozen_, labels_, keys_}; }
   // A state of this skeletonizer (InvalidArgument when it does not fit its shape).
@@ -267,6 +272,7 @@ class Skeletonizer {
   // E_v are stale until refresh_errors(moved).
   std::vector<char> fit_and_project(double lambda);
   bool settled(int cluster, double lambda) const;  // its last fit would give it again, nearly
+  bool pass_over_settled_ = false;
   void check_id(int id) const;
   void add_key() { keys_.push_back(next_key_++); }  // for a sphere just added
 

@@ -122,6 +122,7 @@ EditSession::Impl::Impl(Shape shape, const SkeletonizerOptions& options, int thr
       finish_options_(std::move(finish)) {
   if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
   finish_options_.refine.validate();
+  skeletonizer_->pass_over_settled(true);  // a session steps on for ever once settled
   if (finish_options_.surface.points.empty()) {
     finish_options_.surface.points = skeletonizer_->shape().points;
     finish_options_.surface.normals = skeletonizer_->shape().normals;

@@ -224,17 +224,17 @@ std::vector<char> Skeletonizer::fit_and_project(double lambda) {
   // stage would add a barrier, and on a virtual machine waking the waiting threads costs ~0.1 ms.
   // The summary's update and projection times split the loop's wall time by their thread time.
   double fit_seconds = 0.0, projection_seconds = 0.0;
-  last_fits_.resize(count);
+  if (pass_over_settled_) last_fits_.resize(count);
 #pragma omp parallel for schedule(dynamic) reduction(+ : fit_seconds, projection_seconds)
   for (int c = 0; c < count; ++c) {
-    if (frozen_[c] || settled(c, lambda)) continue;
+    if (frozen_[c] || (pass_over_settled_ && settled(c, lambda))) continue;
     const auto fit_start = Clock::now();
     fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
     const auto projection_start = Clock::now();
     if (options_.project) fitted[c] = projector_.project(fitted[c].center);
     fit_seconds += std::chrono::duration<double>(projection_start - fit_start).count();
     projection_seconds += seconds_since(projection_start);
-    last_fits_[c] = {true, lambda, members_[c], spheres_[c], fitted[c]};
+    if (pass_over_settled_) last_fits_[c] = {true, lambda, members_[c], spheres_[c], fitted[c]};
   }
   const double wall = seconds_since(start);
   const double busy = fit_seconds + projection_seconds;

@@ -61,6 +61,7 @@ std::unique_ptr<vmas::Skeletonizer> settled(vmas::SurfaceInput surface) {
   auto made = std::make_unique<vmas::Skeletonizer>(
       vmas::build_shape(surface, vmas::ShapeOptions{}), options);
   made->run();
+  made->pass_over_settled(true);  // as vmas edit steps
   return made;
 }
 
