@@ -17,9 +17,11 @@ using json = nlohmann::ordered_json;
 namespace vmas::cli {
 namespace {
 
-// A line of the file and its input; "" for a line that is not a JSON object with one.
+// A line of the file, and its input with the line parsed; "" (null) for a line that is not a JSON
+// object with one.
 struct Line {
   std::string text, input;
+  json parsed;
 };
 
 std::vector<Line> read_lines(const std::string& path) {
@@ -27,9 +29,13 @@ std::vector<Line> read_lines(const std::string& path) {
   std::ifstream in(path);
   for (std::string text; std::getline(in, text);) {
     if (text.empty()) continue;
-    const json line = json::parse(text, nullptr, false);
-    const bool keyed = line.is_object() && line.contains("input") && line["input"].is_string();
-    lines.push_back({text, keyed ? line["input"].get<std::string>() : ""});
+    json line = json::parse(text, nullptr, false);
+    if (line.is_object() && line.contains("input") && line["input"].is_string()) {
+      std::string input = line["input"].get<std::string>();
+      lines.push_back({text, std::move(input), std::move(line)});
+    } else {
+      lines.push_back({text, "", json()});
+    }
   }
   return lines;
 }
@@ -59,8 +65,8 @@ class FileLock {
 
 std::map<std::string, json> BatchSummary::read() const {
   std::map<std::string, json> by_input;
-  for (const Line& line : read_lines(path_))
-    if (!line.input.empty()) by_input[line.input] = json::parse(line.text);
+  for (Line& line : read_lines(path_))
+    if (!line.input.empty()) by_input[line.input] = std::move(line.parsed);
   return by_input;
 }
 
@@ -74,7 +80,7 @@ void BatchSummary::merge(const json& line) const {
       old.text = line.dump();
       replaced = true;
     }
-  if (!replaced) lines.push_back({line.dump(), input});
+  if (!replaced) lines.push_back({line.dump(), input, json()});
   // Only the holder of the lock writes the temporary file.
   const std::string temporary = path_ + ".tmp";
   {

@@ -54,9 +54,7 @@ void changed_spheres(const std::vector<Sphere>& spheres, const std::vector<Spher
                      std::vector<char>& mask, std::vector<int>& list) {
   mask.assign(spheres.size(), 0);
   for (std::size_t m = 0; m < spheres.size(); ++m) {
-    const bool same = m < partitioned.size() && spheres[m].center == partitioned[m].center &&
-                      spheres[m].radius == partitioned[m].radius;
-    if (same) continue;
+    if (m < partitioned.size() && same_sphere(spheres[m], partitioned[m])) continue;
     mask[m] = 1;
     list.push_back(static_cast<int>(m));
   }
@@ -79,10 +77,11 @@ void partition(const Shape& shape, const std::vector<Sphere>& spheres, double la
   energies.resize(n);
   std::vector<int> all(count);
   std::iota(all.begin(), all.end(), 0);
-  const bool incremental = energies_current && partitioned;
   std::vector<char> changed;
   std::vector<int> changed_list;
-  if (incremental) changed_spheres(spheres, *partitioned, changed, changed_list);
+  if (energies_current && partitioned) changed_spheres(spheres, *partitioned, changed, changed_list);
+  // When every sphere changed (a run's steps) no group can be passed over: no test either.
+  const bool incremental = !changed.empty() && static_cast<int>(changed_list.size()) < count;
   const int groups = (blocks.size() + kBlocksPerGroup - 1) / kBlocksPerGroup;
 #pragma omp parallel
   {

@@ -13,6 +13,11 @@ inline double euclidean_energy(const Shape& shape, int v, const Sphere& m, doubl
   return lambda * shape.area[v] * d * d;
 }
 
+// The same sphere, bit for bit.
+inline bool same_sphere(const Sphere& a, const Sphere& b) {
+  return a.center == b.center && a.radius == b.radius;
+}
+
 // E_v(m) of eq. 8.
 inline double vertex_energy(const Shape& shape, int v, const Sphere& m, double lambda) {
   return shape.quadric[v](m) + euclidean_energy(shape, v, m, lambda);

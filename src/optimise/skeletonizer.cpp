@@ -73,10 +73,6 @@ constexpr double kCoarseAtMost = 0.7;
 // with the same members since, is settled: fitting it again would move it by rounding only.
 constexpr double kSettledMove = 1e-9;
 
-bool same_sphere(const Sphere& a, const Sphere& b) {
-  return a.center == b.center && a.radius == b.radius;
-}
-
 }  // namespace
 
 Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
