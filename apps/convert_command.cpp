@@ -8,7 +8,7 @@
 #include "commands.hpp"
 #include "standard_streams.hpp"
 #include "vmas/io.hpp"
-#include "vmas/prepare.hpp"
+#include "vmas/vmas.hpp"
 
 namespace po = boost::program_options;
 

@@ -7,13 +7,14 @@
 #include <random>
 #include <utility>
 
+#include "pipeline/validity.hpp"
 #include "prepare/fringe.hpp"
 #include "prepare/noise.hpp"
 #include "prepare/outliers.hpp"
+#include "prepare/prepare.hpp"
 #include "prepare/smoothing.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/prepare.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 

@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "cli_fixture.hpp"
+#include "prepare/prepare.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
-#include "vmas/prepare.hpp"
 #include "vmas/vmas.hpp"
 
 namespace vmas {

@@ -2,8 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "prepare/holes.hpp"
+#include "prepare/prepare.hpp"
 #include "test_shapes.hpp"
-#include "vmas/prepare.hpp"
 
 namespace vmas {
 namespace {

@@ -7,9 +7,9 @@
 #include <random>
 
 #include "core/flann_query.hpp"
+#include "core/kdtree.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/kdtree.hpp"
 
 namespace vmas {
 namespace {

@@ -5,11 +5,11 @@
 #include <iostream>
 #include <random>
 
+#include "core/kdtree.hpp"
 #include "prepare/mesh_sampling.hpp"
 #include "test_shapes.hpp"
-#include "vmas/clean.hpp"
 #include "vmas/eval.hpp"
-#include "vmas/kdtree.hpp"
+#include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
 
 namespace vmas {

@@ -5,13 +5,13 @@
 #include <functional>
 #include <random>
 
+#include "core/kdtree.hpp"
 #include "prepare/normals.hpp"
 #include "shared_data.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
-#include "vmas/kdtree.hpp"
 
 namespace vmas {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "optimise/partition.hpp"
 #include "test_shapes.hpp"
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 namespace {

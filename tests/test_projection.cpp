@@ -3,10 +3,10 @@
 
 #include <cmath>
 
+#include "optimise/projection.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/projection.hpp"
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 namespace {

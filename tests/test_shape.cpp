@@ -5,9 +5,10 @@
 #include <cmath>
 
 #include "optimise/connectivity.hpp"
+#include "optimise/shape.hpp"
 #include "test_shapes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 namespace {

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "test_shapes.hpp"
-#include "vmas/shape.hpp"
-#include "vmas/sqem.hpp"
+#include "vmas/skeletonizer.hpp"
+#include "vmas/types.hpp"
 
 namespace vmas {
 namespace {

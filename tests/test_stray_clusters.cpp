@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <random>
 
+#include "prepare/prepare.hpp"
 #include "prepare/stray_clusters.hpp"
 #include "test_shapes.hpp"
-#include "vmas/prepare.hpp"
 
 namespace vmas {
 namespace {

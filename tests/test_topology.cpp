@@ -4,8 +4,9 @@
 #include <map>
 #include <set>
 
+#include "optimise/topology.hpp"
 #include "test_shapes.hpp"
-#include "vmas/topology.hpp"
+#include "vmas/io.hpp"
 #include "vmas/vmas.hpp"
 
 namespace vmas {

@@ -5,9 +5,9 @@
 #include <random>
 
 #include "optimise/partition.hpp"
-#include "test_shapes.hpp"
 #include "optimise/update.hpp"
-#include "vmas/shape.hpp"
+#include "test_shapes.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 namespace {

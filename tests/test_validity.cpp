@@ -2,10 +2,10 @@
 // radius that is not the distance to the surface.
 #include <gtest/gtest.h>
 
-#include "test_shapes.hpp"
 #include "pipeline/validity.hpp"
-#include "vmas/refine.hpp"
-#include "vmas/shape.hpp"
+#include "refine/refine.hpp"
+#include "test_shapes.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 namespace {

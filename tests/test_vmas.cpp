@@ -11,6 +11,8 @@
 #include <random>
 #include <string>
 
+#include "optimise/projection.hpp"
+#include "refine/refine.hpp"
 #include "test_shapes.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/vmas.hpp"

@@ -15,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "vmas/refine.hpp"
 #include "vmas/skeletonizer.hpp"
 #include "vmas/vmas.hpp"
 
@@ -131,7 +130,7 @@ class EditSession {
   void redo();
   void pause(bool paused);
   // Ends the optimisation as vmas::skeletonize does: the final refits, then the worst-case
-  // refinement (vmas/refine.hpp), on the current spheres; frozen spheres never move, and when
+  // refinement (src/refine/refine.hpp), on the current spheres; frozen spheres never move, and when
   // the measured error would grow the spheres stay as they were. Then the session pauses, so that the finished skeleton stays until the next edit or resume. An edit
   // of its own: undo() takes it back.
   void finish();

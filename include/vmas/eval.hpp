@@ -14,42 +14,12 @@
 #include <memory>
 #include <vector>
 
+#include "vmas/options.hpp"
 #include "vmas/types.hpp"
 
 #pragma GCC visibility push(default)  // what the public headers declare is exported
 
 namespace vmas {
-
-struct EvalOptions {
-  // Random area-weighted surface samples added to the input vertices (meshes only);
-  // -1: as many as there are vertices.
-  int surface_samples = -1;
-  // Distance between neighbouring samples on the primitives' boundaries, fraction of the
-  // diagonal. The mean uses these samples; the maximum is refined 16x finer around the farthest.
-  // Primitives far larger than the shape are sampled more coarsely, so that one measurement
-  // never takes more than 500 000 boundary samples (about 80 MB).
-  double boundary_spacing = 0.004;
-  int refined_samples = 256;  // boundary samples around which the maximum is refined, per round
-  // A boundary sample is hidden by another primitive only when deeper inside it than this,
-  // fraction of the diagonal (touching primitives share boundary points).
-  double inside_tolerance = 1e-6;
-  unsigned seed = 1;  // for the random surface samples; results are deterministic per seed
-  // Only the two maxima (and where they are), for callers that measure many medial meshes: the
-  // means, vertex_error and the boundary samples' errors are left empty (0), and distances that
-  // cannot reach a maximum are not computed exactly. The maxima are those of a full evaluation.
-  bool maxima_only = false;
-  // A cloud with a normal at every point stands for a surface: medial -> surface distances are
-  // then to the nearest of the points' tangent discs (each reaching its point's
-  // kDiscNeighbours-th nearest neighbour), not to the nearest point, so that the gaps of a sparse
-  // sampling are not counted as error. Off: the nearest point, as the paper measures (vmas eval).
-  bool cloud_as_discs = false;
-  // Surface -> medial from at most about this many of the input's points, one per voxel
-  // (src/core/subsample.hpp), when it has more (0: all of them): a smoothed mesh holds no detail finer
-  // than its noise. Only with maxima_only (vertex_error needs every point).
-  std::size_t max_input_points = 0;
-
-  void validate() const;  // throws InvalidOption
-};
 
 struct EvalResult {
   double diagonal = 0.0;  // bounding-box diagonal of the input; every length below is absolute
@@ -122,6 +92,14 @@ OpeningReach opening_reach(const SurfaceInput& cloud, const EvalResult& evaluate
 // that is negative or not finite.
 EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
                     const EvalOptions& options = {});
+
+// The Betti numbers over Z/2 of `medial` as a simplicial complex (MedialTopology: its spheres,
+// its edges and the edges of its triangles, its triangles; a triangle listed twice counts once,
+// as a duplicate).
+MedialTopology medial_topology(const MedialMesh& medial);
+// The genus of each piece of a closed triangle mesh (SurfaceGenus).
+// `defects`: mesh_defects(mesh.faces), which the caller has already (ignored for a cloud).
+SurfaceGenus surface_genus(const SurfaceInput& mesh, const MeshDefects& defects);
 
 }  // namespace vmas
 

@@ -1,12 +1,13 @@
 #pragma once
-// Reading shapes (meshes and point clouds) and reading/writing medial meshes and labels.
+// Reading and cleaning shapes (meshes and point clouds), reading/writing medial meshes and labels.
 // Every function throws IoError with a one-line message "PATH: problem" on failure; writers go
 // through a temporary file and a rename, so no half-written output is ever left behind.
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include "vmas/clean.hpp"
+#include "vmas/options.hpp"
 #include "vmas/types.hpp"
 
 #pragma GCC visibility push(default)  // what the public headers declare is exported
@@ -26,6 +27,23 @@ namespace vmas {
 // whatever its header announces.
 SurfaceInput read_surface(const std::string& path, CleanReport* report = nullptr);
 
+// Coordinates beyond this magnitude are rejected: squared distances would overflow.
+constexpr double kMaxCoordinate = 1e150;
+
+// Removes points with a NaN coordinate (scanners' "no point here"), merges exact duplicates
+// (remapping faces), drops degenerate faces and, for meshes, unreferenced vertices. Normals are
+// renormalised; a point whose normal is NaN, infinite or zero keeps its place with a NaN normal
+// (preparation estimates it; when no point has one, the cloud has no normals). Faces with area
+// below 1e-14 * (bbox diagonal)^2 are degenerate. Kept points stay in input order, each duplicate
+// group keeping its first point (with the group's mean density). Throws InvalidInput if `normals`
+// or `density` is neither empty nor one per point, or if a coordinate is infinite or beyond +-1e150
+// (squared distances would overflow).
+CleanReport clean_surface(SurfaceInput& surface);
+
+// What makes a mesh a poor description of a solid (MeshDefects), counted over its edges. Vertex
+// indices are those of a cleaned surface (never negative; InvalidInput otherwise).
+MeshDefects mesh_defects(const std::vector<std::array<int, 3>>& faces);
+
 // The same without cleaning: every point as stored (NaN ones included, so that indices match
 // the file), for callers that clean later, such as vmas::skeletonize. Throws IoError for the
 // reasons above except those of cleaning.
@@ -37,7 +55,7 @@ SurfaceInput read_surface_as_stored(const std::string& path, const std::string& 
 // A density (SurfaceInput::density) for an input of `points` points from a text file of one value
 // per line, in the input's order ('#' comments and blank lines skipped). Throws IoError naming the
 // file when it cannot be read, a line is not one number, or the count differs; the values
-// themselves are check_density's (vmas/prepare.hpp).
+// themselves are check_density's (vmas/vmas.hpp).
 std::vector<double> read_density(const std::string& path, std::size_t points);
 // The same from a file's `text`, its errors naming `name`.
 std::vector<double> parse_density(const std::string& name, const std::string& text,

@@ -8,102 +8,72 @@
 // Keys name spheres for their life: a sphere keeps its key whatever is added or removed.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "vmas/projection.hpp"
-#include "vmas/shape.hpp"
+#include "vmas/options.hpp"
+#include "vmas/types.hpp"
 
 #pragma GCC visibility push(default)  // what the public headers declare is exported
 
 namespace vmas {
 
-// Spheres produced when neither a count nor an error threshold is given.
-constexpr int kDefaultSpheres = 100;
+// The shape as the method sees it (paper §3.1): positions, outward unit normals, per-vertex
+// support area A(v), the diffused quadric Q_v of each vertex, and a symmetric neighbour graph
+// (mesh edges, or the k-NN graph of a cloud, its pieces joined by their shortest bridges among
+// the 16 nearest neighbours) used for cluster adjacency.
+// Vertices regrouped into spatially compact blocks (the leaves of a median-split tree): block b
+// holds vertices[offsets[b] .. offsets[b+1]), all inside the ball (centers[b], radii[b]). Lets a
+// stage bound a distance for a whole block at once.
+struct VertexBlocks {
+  std::vector<int> vertices;
+  std::vector<int> offsets;
+  std::vector<Vec3> centers;
+  std::vector<double> radii;
 
-// Where splitting stops: a sphere count, met exactly, or an error threshold.
-struct Target {
-  int spheres = 0;     // spheres to produce (0: none given)
-  double error = 0.0;  // instead of a count: split until every cluster's RMS error √E(C) (eq. 12)
-                       // is below this fraction of the diagonal (e.g. 0.005; divided by the
-                       // cluster's mean density where one is given), at most
-                       // max_spheres spheres; scan noise sets a floor (0: none given)
-  // The count aimed at: `spheres`, 0 when the threshold decides, kDefaultSpheres when neither
-  // is given.
-  int count() const { return spheres > 0 ? spheres : error > 0.0 ? 0 : kDefaultSpheres; }
+  int size() const { return static_cast<int>(centers.size()); }
 };
 
-// The Gauss–Newton refit of a cluster's sphere (paper §3.3, src/optimise/update.hpp).
-struct UpdateOptions {
-  int max_iterations = 10;       // Gauss–Newton steps per update
-  double step_tolerance = 1e-6;  // stop when the step is shorter (relative to the diagonal)
-  void validate() const;         // throws InvalidOption
-};
+struct Shape {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;           // unit, outward
+  std::vector<double> area;            // A(v) (eq. 4 and 6)
+  std::vector<double> density;         // of each vertex (SurfaceInput::density; empty: uniform)
+  double density_max = 0.0;            // the largest of them
+  std::vector<double> error_weights;   // of each vertex: error_weight's (empty without a density)
+  std::vector<Sqem> quadric;           // Q_v (eq. 5 and 7)
+  std::vector<int> neighbour_offsets;  // CSR: neighbours of v are
+  std::vector<int> neighbours;  //   neighbours[neighbour_offsets[v] .. neighbour_offsets[v+1])
+  VertexBlocks blocks;
+  bool is_mesh = false;
+  double diagonal = 0.0;  // bounding-box diagonal: the unit of every relative length
+  double total_area = 0.0;
 
-// How many clusters one round of splitting may split (paper §3.4, src/optimise/split.hpp).
-struct SplitOptions {
-  double max_fraction = 0.2;  // at most this fraction of the current sphere count per round
-  int max_per_round = 10;     // and at most this many (sphere-count targets only) ...
-  int large_count_share = 20;  // ... or 1/this of the current count when that is more
-  void validate() const;      // throws InvalidOption
-};
-
-struct SkeletonizerOptions {
-  double lambda = 0.2;           // weight of the point–sphere term (eq. 8, 11)
-  double final_lambda = 0.01;    // λ of the refits that end run(): spheres reach extremities
-  int final_rounds = 3;          // refits after the optimisation (0: none)
-  Target target;
-  int max_spheres = 5000;        // hard cap when only an error threshold is given (and never
-                                 // more spheres than points)
-  int max_iterations = 3000;     // partition + update steps in run()
-  double convergence = 2e-4;     // converged when the total error changes by less (relative)
-  int split_interval = 10;       // split at least every this many steps while spheres are missing
-  int settle_iterations = 3;     // steps after the last split before run() may stop
-  int max_settle_iterations = 30;  // ... and after which it stops even if not converged
-  int min_cluster_size = 4;        // a sphere with fewer vertices is moved to the worst vertex
-                                   // of the worst cluster after a partition
-  bool project = true;             // shrinking-ball correction after every update (§3.3)
-  // With a sphere count: run() grows the spheres on a coarsened copy of the shape (about a
-  // quarter of the vertices, at least 50 per sphere; coarsen_shape), then settles and refits
-  // them on the whole shape. Steps on the coarse shape cost a fraction.
-  bool coarse_start = true;
-  // The medial mesh leaves out the triangles that close its cavities (MedialTopology's
-  // closing_triangles): no cavity, the same pieces and loops (the medial axis of a solid encloses
-  // nothing). Cluster adjacency makes every 3-clique a triangle, and closed pockets of them.
-  bool open_cavities = true;
-  UpdateOptions update;
-  ShrinkingBallOptions shrinking_ball;
-  SplitOptions split;
-
-  void validate() const;  // throws InvalidOption
-
-  // The range of λ and final_lambda (and of a λ changed later, EditSession::set_lambda).
-  static constexpr double kMaxLambda = 1e6;
-  static void check_lambda(const std::string& option, double value);  // throws InvalidOption
-};
-
-// Seconds spent in each stage: a Skeletonizer's own (partition, update, projection, split) so
-// far, and vmas::skeletonize's whole run (Result::seconds).
-struct Timings {
-  double clean = 0.0, prepare = 0.0, shape = 0.0, partition = 0.0, update = 0.0, projection = 0.0,
-         split = 0.0, refine = 0.0, connectivity = 0.0, other_starts = 0.0, smoothing_check = 0.0,
-         total = 0.0;
-  Timings& operator+=(const Timings& other) {
-    clean += other.clean;
-    prepare += other.prepare;
-    shape += other.shape;
-    partition += other.partition;
-    update += other.update;
-    projection += other.projection;
-    split += other.split;
-    refine += other.refine;
-    connectivity += other.connectivity;
-    other_starts += other.other_starts;
-    smoothing_check += other.smoothing_check;
-    total += other.total;
-    return *this;
+  int size() const { return static_cast<int>(points.size()); }
+  // The weight of an error at density d where spheres are placed: d⁴, so that a cluster's RMS
+  // error counts d² times (docs/design.md, "Density").
+  static double density_weight(double d) { return (d * d) * (d * d); }
+  // ... of vertex v's error, relative to the densest vertex's (1 without a density, and for a
+  // uniform one: such a field changes nothing to the bit): what the fits, the split seeds and
+  // the refinement's removals weigh by.
+  double error_weight(int v) const { return error_weights.empty() ? 1.0 : error_weights[v]; }
+  // Sets `density` (checked by the caller: vmas::check_density), `density_max` and
+  // `error_weights`.
+  void set_density(std::vector<double> values) {
+    density = std::move(values);
+    density_max = density.empty() ? 0.0 : *std::max_element(density.begin(), density.end());
+    error_weights.clear();
+    for (double d : density) error_weights.push_back(density_weight(d / density_max));
   }
 };
+
+// Builds the shape from a cleaned input. Meshes take their normals and areas from the faces
+// (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput
+// otherwise).
+Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
+
+class MedialProjector;  // the shrinking ball on a shape (src/optimise/projection.hpp)
 
 struct Progress {
   // The phases in the order a run goes through them; `fraction` rises from 0 to 1 once in each
@@ -115,7 +85,7 @@ struct Progress {
   // Settling: after every step once no sphere is missing (round: steps since the last split,
   //   of at most rounds; 1 when the spheres have settled).
   // FinalRefit: after every final refit (round of rounds).
-  // Refining: before every move of the worst-case refinement (vmas/refine.hpp; round of at most
+  // Refining: before every move of the worst-case refinement (src/refine/refine.hpp; round of at most
   //   rounds; error: the measured two-sided error / diagonal), and once when it ends.
   // OtherStarts: vmas::skeletonize's starts after the first (round: this start, of rounds),
   //   while they run one after the other or while the first waits for them.
@@ -141,17 +111,6 @@ struct Progress {
 // Called from the thread that runs the optimisation; returning false stops it there.
 using ProgressCallback = std::function<bool(const Progress&)>;
 
-struct RunSummary {
-  int iterations = 0;
-  int spheres = 0;
-  double error = 0.0;
-  bool converged = false;           // the total error settled (see convergence)
-  bool hit_max_iterations = false;  // max_iterations ended the run
-  bool cancelled = false;           // the progress callback returned false
-  bool error_threshold_missed = false;  // an error threshold was still unmet when the run ended
-                                        // (sphere cap, max_iterations, no cluster could split)
-};
-
 // Everything a run's result depends on: restore() brings a skeletonizer back to it exactly.
 struct SkeletonizerState {
   std::vector<Sphere> spheres;
@@ -174,6 +133,7 @@ class Skeletonizer {
  public:
   // Starts from one sphere fitted to the whole shape (paper §3.2) and projected on the medial axis.
   Skeletonizer(Shape shape, const SkeletonizerOptions& options);
+  ~Skeletonizer();
   Skeletonizer(const Skeletonizer&) = delete;  // the projector refers to shape_
   Skeletonizer& operator=(const Skeletonizer&) = delete;
 
@@ -225,7 +185,7 @@ class Skeletonizer {
   // The medial mesh: the dual of cluster adjacency (every 3-clique a triangle), less the
   // triangles that close cavities when options().open_cavities.
   MedialMesh medial_mesh() const;
-  // Every triangle kept: what the refinement measures (vmas/refine.hpp), so that its moves do
+  // Every triangle kept: what the refinement measures (src/refine/refine.hpp), so that its moves do
   // not depend on which triangles happen to close a pocket.
   MedialMesh adjacency_mesh() const;
   const std::vector<Sphere>& spheres() const { return spheres_; }
@@ -237,7 +197,7 @@ class Skeletonizer {
   const std::vector<double>& cluster_densities() const { return cluster_densities_; }
   bool frozen(int id) const { return frozen_.at(id); }
   const Shape& shape() const { return shape_; }
-  const MedialProjector& projector() const { return projector_; }
+  const MedialProjector& projector() const { return *projector_; }
   const SkeletonizerOptions& options() const { return options_; }
   const Timings& times() const { return times_; }  // of its own stages
   double total_error() const { return total_error_; }
@@ -278,7 +238,7 @@ class Skeletonizer {
 
   Shape shape_;
   SkeletonizerOptions options_;
-  MedialProjector projector_;
+  std::unique_ptr<MedialProjector> projector_;
   std::vector<Sphere> spheres_;
   std::vector<bool> frozen_;
   std::vector<std::uint64_t> keys_;

@@ -1,5 +1,6 @@
 #pragma once
-// Plain data shared by every stage: the input surface and the medial mesh.
+// Plain data shared by every stage: the input surface, the medial mesh, and the spherical
+// quadric error metric (Sqem) the method measures spheres against.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -56,6 +57,54 @@ struct MedialMesh {
   std::vector<Sphere> spheres;
   std::vector<std::array<int, 2>> edges;
   std::vector<std::array<int, 3>> faces;
+};
+
+// Spherical quadric error metric (Thiery et al. 2013; paper eq. 3): the squared distance from a
+// sphere s = (q, r) to the plane {p, n}⊥, written as Q(s) = ½ sᵀAs − bᵀs + c with
+// A = 2ññᵀ, b = 2(n·p)ñ, c = (n·p)², ñ = (n, 1). Quadrics add, so a sum of planes is one quadric.
+// Unaligned storage: the layout of an aligned 4-vector or 4x4 matrix depends on the compiler
+// flags (alignment 16 for generic x86-64, 32 with AVX, 64 with AVX-512), so a program built with
+// -march=native would see another Sqem, and another std::vector<Sqem>, than the library.
+using Vec4 = Eigen::Matrix<double, 4, 1, Eigen::DontAlign>;
+using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::DontAlign>;
+
+inline Vec4 to_vec4(const Sphere& s) {
+  return Vec4(s.center.x(), s.center.y(), s.center.z(), s.radius);
+}
+inline Sphere to_sphere(const Vec4& s) { return Sphere{s.head<3>(), s.w()}; }
+
+struct Sqem {
+  Mat4 A = Mat4::Zero();
+  Vec4 b = Vec4::Zero();
+  double c = 0.0;
+
+  // The plane through `point` with unit normal `normal`, weighted by `weight`.
+  static Sqem plane(const Vec3& point, const Vec3& normal, double weight = 1.0) {
+    const Vec4 n_tilde(normal.x(), normal.y(), normal.z(), 1.0);
+    const double offset = normal.dot(point);
+    Sqem q;
+    q.A = (2.0 * weight) * n_tilde * n_tilde.transpose();
+    q.b = (2.0 * weight * offset) * n_tilde;
+    q.c = weight * offset * offset;
+    return q;
+  }
+
+  double operator()(const Vec4& s) const { return 0.5 * s.dot(A * s) - b.dot(s) + c; }
+  double operator()(const Sphere& s) const { return (*this)(to_vec4(s)); }
+
+  Sqem& operator+=(const Sqem& other) {
+    A += other.A;
+    b += other.b;
+    c += other.c;
+    return *this;
+  }
+  // += weight × other.
+  Sqem& add(const Sqem& other, double weight) {
+    A += weight * other.A;
+    b += weight * other.b;
+    c += weight * other.c;
+    return *this;
+  }
 };
 
 }  // namespace vmas

@@ -13,13 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "vmas/clean.hpp"
 #include "vmas/error.hpp"
-#include "vmas/prepare.hpp"
-#include "vmas/refine.hpp"
-#include "vmas/shape.hpp"
+#include "vmas/eval.hpp"
+#include "vmas/options.hpp"
 #include "vmas/skeletonizer.hpp"
-#include "vmas/topology.hpp"
 #include "vmas/types.hpp"
 
 #pragma GCC visibility push(default)  // what the public headers declare is exported
@@ -29,63 +26,6 @@ namespace vmas {
 // The version of the library this program runs with (e.g. "0.4.0": project()'s VERSION in
 // CMakeLists.txt).
 const char* version();
-
-// Every option of `vmas skeletonize`, with its defaults.
-constexpr int kMaxStarts = 8;
-
-struct Options {
-  int threads = 0;          // OpenMP threads of this call (0: OpenMP's default, all cores)
-  int starts = 2;           // optimisations, each in its own turn of the working frame
-                            // (turn_working_frame), at most kMaxStarts; the one with the least
-                            // measured error whose skeleton has no more pieces than the input is
-                            // the result. The optimisation is a local search
-                            // that rounding sends elsewhere: two starts make a poor result rarer
-                            // (1: less time)
-  PrepareOptions prepare;   // denoising (auto), outliers, normal estimation and orientation
-  ShapeOptions shape;       // k of a cloud's neighbour graph
-  SkeletonizerOptions run;  // the target (run.target: spheres or error), λ, final refits,
-                            // convergence, shrinking balls, ...
-  RefineOptions refine;     // worst-case refinement after the run (max_moves 0: off)
-  // Throws InvalidOption naming the option; option() gives its CLI name.
-  void validate() const;
-};
-
-// Something about the input or the result the caller should know; the result is still usable.
-struct Warning {
-  // A stable identifier, for programs: "open-surface", "open-mesh", "misoriented-faces",
-  // "inward-normals", "normals-reoriented" (a cloud's normals of arbitrary sign, oriented),
-  // "split-skeleton", "topology-mismatch" (loops other than the input's genus, or cavities),
-  // "large-error" (measured ε above 5 % of the diagonal),
-  // "target-not-reached" (an error threshold stopped at the sphere cap).
-  std::string code;
-  std::string message;  // one line, for people
-};
-
-
-// When the noise of a cloud was smoothed and the skeleton came out far from the data
-// (large-error), or a part of the data lies far from it (the smoothing took a thin part away),
-// the points were skeletonized a second time as they are (--denoise off), and both skeletons
-// measured against them: the smoothed one is the result unless the other reaches less far past
-// them by more than the noise, or comes nearer their farthest point by far more (lengths:
-// fraction of the diagonal).
-struct SmoothingCheck {
-  bool made = false;
-  bool smoothing_kept = true;     // false: the result is that of the unsmoothed points
-  double smoothed_reach = 0.0;    // medial -> data maximum of the smoothed points' skeleton
-  double unsmoothed_reach = 0.0;  // and of the unsmoothed points' skeleton
-  double smoothed_cover = 0.0;    // data -> medial maximum of the smoothed points' skeleton
-  double unsmoothed_cover = 0.0;  // and of the unsmoothed points' skeleton
-};
-
-// Spheres that a closed input shows to be no medial balls (invalid_spheres in src/pipeline/validity.hpp):
-// counted only when the input encloses a volume (a mesh without defects, or a cloud whose
-// winding number reads closed and that has no holes).
-struct InvalidSpheres {
-  bool checked = false;        // the input is closed, so the counts below mean something
-  std::size_t outside = 0;     // centres whose winding number is at most ½
-  std::size_t radius_off = 0;  // radii further than 1 % of the diagonal from the centre's
-                               // distance to the surface
-};
 
 struct Result {
   MedialMesh medial_mesh;   // in the input's coordinates
@@ -167,6 +107,38 @@ struct BestStart {
 };
 BestStart best_start(const PreparedShape& prepared, const Options& options,
                      const ProgressCallback& progress = {});
+
+// Density (SurfaceInput::density; docs/design.md, "Density"). Throws InvalidInput naming the
+// first problem when `density` is not one finite value >= 0 per point of `points`, or all 0.
+void check_density(const std::vector<double>& density, std::size_t points);
+
+// A density for the points of `surface` (as stored, in its coordinates) by a rule:
+//   "curvature": 1 where the surface is flattest, rising with the surface variation of a point's
+//     16 nearest neighbours (the least of their spread's eigenvalues over the sum) to 4 at the
+//     5 % most curved points: sharp edges and small features of a part get finer;
+//   "distance-to:X,Y,Z,R[,D]": D (4 unless given) within R of the point (X, Y, Z), 1 elsewhere.
+// Points with a NaN coordinate get 1. Throws InvalidOption ("density") for another rule.
+std::vector<double> density_by_rule(const SurfaceInput& surface, const std::string& rule);
+// Whether `text` names one of those rules (well formed or not), rather than a file.
+bool is_density_rule(const std::string& text);
+
+// What the stage measures with: coarser than vmas eval's defaults (the input's vertices only, 4x
+// the boundary spacing, 8 refined maxima, maxima only), and a cloud's gaps measured across its
+// points' tangent discs (EvalOptions::cloud_as_discs: a sparse sampling's gaps are no error)
+// unless the cloud is `smoothed` (PrepareReport::smoothed: the smoothed surface's normals round
+// its edges off, and discs there would hide spheres reaching past them, as on a noisy gear's
+// teeth). Its Evaluator takes a while to build (a tree over the input's faces) and needs only
+// the surface: vmas::skeletonize builds it beside the run and hands it to the overload below.
+EvalOptions refinement_eval_options(bool smoothed = false);
+
+// The end of every run, as vmas::skeletonize, EditSession::finish and Python's
+// Skeletonizer.finish make it: the final refits (Skeletonizer::final_refit, options().final_rounds;
+// Phase::FinalRefit after each) unless the run made them already (`refitted`: Skeletonizer::run
+// does), then the refinement (when options.max_moves > 0), and the error measured with
+// `evaluator` (the refinement's last measurement, or one of its own).
+FinishReport finish_skeleton(Skeletonizer& skeletonizer, Evaluator& evaluator,
+                             const RefineOptions& options, bool refitted,
+                             const ProgressCallback& progress = {});
 
 // The OpenMP thread count of the calling thread while it lives (0: left as it is; never more than
 // the cores: more only wait for each other). OpenMP keeps the count per thread, so calls from

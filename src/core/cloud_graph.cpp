@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/disjoint_sets.hpp"
-#include "vmas/kdtree.hpp"
+#include "core/kdtree.hpp"
 
 namespace vmas {
 

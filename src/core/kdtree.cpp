@@ -1,4 +1,4 @@
-#include "vmas/kdtree.hpp"
+#include "core/kdtree.hpp"
 
 #include <algorithm>
 #include <array>

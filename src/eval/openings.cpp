@@ -2,10 +2,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vmas/clean.hpp"
+#include "prepare/prepare.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
-#include "vmas/prepare.hpp"
+#include "vmas/io.hpp"
 
 namespace vmas {
 

@@ -4,8 +4,8 @@
 #include <optional>
 #include <vector>
 
+#include "core/kdtree.hpp"
 #include "eval/bvh.hpp"
-#include "vmas/kdtree.hpp"
 #include "vmas/types.hpp"
 
 namespace vmas {

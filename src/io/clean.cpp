@@ -1,5 +1,5 @@
 // The cleaning stage: what every input goes through before anything else.
-#include "vmas/clean.hpp"
+#include "vmas/io.hpp"
 
 #include <algorithm>
 #include <array>

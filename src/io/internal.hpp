@@ -16,8 +16,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "vmas/clean.hpp"
 #include "vmas/error.hpp"
+#include "vmas/io.hpp"
 #include "vmas/types.hpp"
 
 // Hidden: internal to the library, never exported (src/exports.map exports the vmas API).

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "io/internal.hpp"
-#include "vmas/clean.hpp"
+#include "vmas/io.hpp"
 
 namespace vmas {
 namespace io_internal {

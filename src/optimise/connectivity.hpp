@@ -4,7 +4,7 @@
 // clusters give a triangle.
 #include <vector>
 
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 

@@ -3,7 +3,7 @@
 // E_v(m) = Q_v(m) + λ·A(v)·(‖p_v − q‖ − r)²  (eq. 8).
 #include <vector>
 
-#include "vmas/shape.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
 

@@ -1,4 +1,4 @@
-#include "vmas/projection.hpp"
+#include "optimise/projection.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "vmas/shape.hpp"
+#include "optimise/shape.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -12,10 +12,10 @@
 #include "core/cloud_graph.hpp"
 #include "core/density_mean.hpp"
 #include "core/disjoint_sets.hpp"
+#include "core/kdtree.hpp"
 #include "core/subsample.hpp"
 #include "vmas/error.hpp"
-#include "vmas/kdtree.hpp"
-#include "vmas/prepare.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 

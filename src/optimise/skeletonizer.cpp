@@ -11,11 +11,13 @@
 #include "core/validate_member.hpp"
 #include "optimise/connectivity.hpp"
 #include "optimise/partition.hpp"
+#include "optimise/projection.hpp"
+#include "optimise/shape.hpp"
 #include "optimise/split.hpp"
+#include "optimise/topology.hpp"
 #include "optimise/update.hpp"
 #include "vmas/error.hpp"
-#include "vmas/prepare.hpp"
-#include "vmas/topology.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 
@@ -76,7 +78,7 @@ constexpr double kSettledMove = 1e-9;
 }  // namespace
 
 Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
-    : shape_(std::move(shape)), options_(options), projector_(shape_, options.shrinking_ball) {
+    : shape_(std::move(shape)), options_(options), projector_(std::make_unique<MedialProjector>(shape_, options.shrinking_ball)) {
   options_.validate();
   check_target_fits(options_.target);
   // One cluster holding every vertex: fit its sphere from the centroid, then project it.
@@ -91,12 +93,14 @@ Skeletonizer::Skeletonizer(Shape shape, const SkeletonizerOptions& options)
   for (const Vec3& p : shape_.points) mean_distance += (p - centroid).norm();
   Sphere sphere{centroid, mean_distance / shape_.size()};
   sphere = fit_sphere(shape_, all, sphere, options_.lambda, options_.update);
-  if (options_.project) sphere = projector_.project(sphere.center);
+  if (options_.project) sphere = projector_->project(sphere.center);
   spheres_.push_back(sphere);
   frozen_.push_back(false);
   add_key();
   repartition();
 }
+
+Skeletonizer::~Skeletonizer() = default;
 
 void Skeletonizer::repartition() {
   const auto start = Clock::now();
@@ -130,7 +134,7 @@ bool Skeletonizer::reseed_tiny_clusters(bool serving_balls_only) {
   for (int c : tiny) {
     while (next_donor < donors.size()) {
       const int worst = worst_vertex(donors[next_donor++]);
-      const Sphere ball = projector_.ball_at(worst);
+      const Sphere ball = projector_->ball_at(worst);
       if (serving_balls_only &&
           !(vertex_energy(shape_, worst, ball, options_.lambda) < vertex_energies_[worst]))
         continue;
@@ -227,7 +231,7 @@ std::vector<char> Skeletonizer::fit_and_project(double lambda) {
     const auto fit_start = Clock::now();
     fitted[c] = fit_sphere(shape_, members_[c], spheres_[c], lambda, options_.update);
     const auto projection_start = Clock::now();
-    if (options_.project) fitted[c] = projector_.project(fitted[c].center);
+    if (options_.project) fitted[c] = projector_->project(fitted[c].center);
     fit_seconds += std::chrono::duration<double>(projection_start - fit_start).count();
     projection_seconds += seconds_since(projection_start);
     if (pass_over_settled_) last_fits_[c] = {true, lambda, members_[c], spheres_[c], fitted[c]};
@@ -313,7 +317,7 @@ int Skeletonizer::split() {
                                                eligible, max_count);
   for (int c : chosen) {
     const int worst = worst_vertex(c);
-    spheres_.push_back(projector_.ball_at(worst));
+    spheres_.push_back(projector_->ball_at(worst));
     frozen_.push_back(false);
     add_key();
   }
@@ -479,7 +483,7 @@ void Skeletonizer::check_id(int id) const {
 int Skeletonizer::add_sphere_at(int vertex) {
   if (vertex < 0 || vertex >= shape_.size())
     throw InvalidArgument("no vertex with index " + std::to_string(vertex));
-  return add_sphere(projector_.ball_at(vertex));
+  return add_sphere(projector_->ball_at(vertex));
 }
 
 int Skeletonizer::add_sphere(const Sphere& sphere) {

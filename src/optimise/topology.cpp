@@ -1,4 +1,4 @@
-#include "vmas/topology.hpp"
+#include "optimise/topology.hpp"
 
 #include <algorithm>
 #include <array>

@@ -17,9 +17,9 @@
 #include <pcl/search/impl/search.hpp>
 #include <pcl/surface/impl/mls.hpp>
 
+#include "core/kdtree.hpp"
 #include "core/principal_axes.hpp"
 #include "pcl_backend/flann_search.hpp"
-#include "vmas/kdtree.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

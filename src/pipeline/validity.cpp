@@ -29,4 +29,14 @@ InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialP
   return invalid;
 }
 
+std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
+                                    const Shape& shape) {
+  if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated ||
+      !report.holes.empty())
+    return 0;
+  const std::vector<int> turned = MedialProjector::inside_out(shape);
+  for (int v : turned) surface.normals[v] = -surface.normals[v];
+  return report.normals_turned = turned.size();
+}
+
 }  // namespace vmas

@@ -14,15 +14,19 @@
 #include <string>
 #include <utility>
 
-#include "optimise/connectivity.hpp"
-#include "eval/envelope.hpp"
-#include "prepare/normals.hpp"
 #include "core/density_mean.hpp"
+#include "core/kdtree.hpp"
 #include "core/stopwatch.hpp"
 #include "core/validate_member.hpp"
+#include "eval/envelope.hpp"
+#include "optimise/connectivity.hpp"
+#include "optimise/topology.hpp"
 #include "pipeline/validity.hpp"
+#include "prepare/normals.hpp"
+#include "prepare/prepare.hpp"
+#include "refine/refine.hpp"
 #include "vmas/eval.hpp"
-#include "vmas/kdtree.hpp"
+#include "vmas/io.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

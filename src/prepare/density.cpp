@@ -1,4 +1,4 @@
-// Density fields: checking one given per point, and making one by a rule (vmas/prepare.hpp).
+// Density fields: checking one given per point, and making one by a rule (vmas/vmas.hpp).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "core/kdtree.hpp"
 #include "core/principal_axes.hpp"
 #include "vmas/error.hpp"
-#include "vmas/kdtree.hpp"
-#include "vmas/prepare.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {

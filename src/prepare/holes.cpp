@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "core/disjoint_sets.hpp"
+#include "core/kdtree.hpp"
 #include "core/quadric_fit.hpp"
-#include "vmas/kdtree.hpp"
 
 namespace vmas {
 

@@ -3,7 +3,7 @@
 // occlusion, a cut), the points of the rim see all their neighbours on one side.
 #include <vector>
 
-#include "vmas/prepare.hpp"
+#include "prepare/prepare.hpp"
 
 namespace vmas {
 

@@ -6,10 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/kdtree.hpp"
 #include "core/quadric_fit.hpp"
 #include "pcl_backend/mls.hpp"
 #include "vmas/error.hpp"
-#include "vmas/kdtree.hpp"
 
 namespace vmas {
 namespace {

@@ -3,7 +3,7 @@
 // (estimate_noise), and whether it calls for smoothing.
 #include <vector>
 
-#include "vmas/prepare.hpp"
+#include "prepare/prepare.hpp"
 
 namespace vmas {
 

@@ -10,13 +10,13 @@
 
 #include "core/cloud_graph.hpp"
 #include "core/disjoint_sets.hpp"
+#include "core/kdtree.hpp"
 #include "core/principal_axes.hpp"
 #include "core/sphere_lattice.hpp"
 #include "pcl_backend/plane_fits.hpp"
+#include "prepare/visibility.hpp"
 #include "vmas/error.hpp"
 #include "vmas/io.hpp"
-#include "vmas/kdtree.hpp"
-#include "prepare/visibility.hpp"
 
 namespace vmas {
 

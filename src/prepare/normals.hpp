@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "core/cloud_graph.hpp"
-#include "vmas/prepare.hpp"
+#include "prepare/prepare.hpp"
 
 namespace vmas {
 

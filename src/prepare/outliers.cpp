@@ -5,10 +5,10 @@
 #include <limits>
 #include <numeric>
 
+#include "core/kdtree.hpp"
 #include "core/principal_axes.hpp"
 #include "core/quadric_fit.hpp"
 #include "pcl_backend/cloud_search.hpp"
-#include "vmas/kdtree.hpp"
 
 namespace vmas {
 namespace {

@@ -3,7 +3,7 @@
 // sampling (which the rule takes for strays) given back.
 #include <vector>
 
-#include "vmas/prepare.hpp"
+#include "prepare/prepare.hpp"
 
 namespace vmas {
 

@@ -1,4 +1,4 @@
-#include "vmas/prepare.hpp"
+#include "prepare/prepare.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -422,16 +422,6 @@ void thin_smoothed_cloud(SurfaceInput& surface, PrepareReport& report, std::size
   report.smoothed_thinned_from = surface.points.size();
   report.smoothed_voxel = thin.leaf;
   keep_cells(thin, surface, report);
-}
-
-std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
-                                    const Shape& shape) {
-  if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated ||
-      !report.holes.empty())
-    return 0;
-  const std::vector<int> turned = MedialProjector::inside_out(shape);
-  for (int v : turned) surface.normals[v] = -surface.normals[v];
-  return report.normals_turned = turned.size();
 }
 
 void turn_working_frame(PrepareReport& report, SurfaceInput& surface, int turn) {

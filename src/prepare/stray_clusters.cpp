@@ -5,9 +5,9 @@
 #include <numeric>
 #include <optional>
 
-#include "prepare/noise.hpp"
 #include "core/disjoint_sets.hpp"
-#include "vmas/kdtree.hpp"
+#include "core/kdtree.hpp"
+#include "prepare/noise.hpp"
 
 namespace vmas {
 namespace {

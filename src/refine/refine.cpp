@@ -1,4 +1,4 @@
-#include "vmas/refine.hpp"
+#include "refine/refine.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,12 +8,14 @@
 #include <string>
 #include <utility>
 
-#include "optimise/connectivity.hpp"
-#include "eval/envelope.hpp"
-#include "optimise/partition.hpp"
 #include "core/stopwatch.hpp"
+#include "eval/envelope.hpp"
+#include "optimise/connectivity.hpp"
+#include "optimise/partition.hpp"
+#include "optimise/projection.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 

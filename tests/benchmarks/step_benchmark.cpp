@@ -17,10 +17,9 @@
 #include <thread>
 
 #include "../shared_data.hpp"
+#include "prepare/prepare.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/io.hpp"
-#include "vmas/prepare.hpp"
-#include "vmas/shape.hpp"
 #include "vmas/skeletonizer.hpp"
 
 namespace {

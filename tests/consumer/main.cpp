@@ -9,7 +9,7 @@
 #include <string>
 #include <vmas/io.hpp>
 #include <vmas/pcl.hpp>
-#include <vmas/shape.hpp>
+#include <vmas/skeletonizer.hpp>
 #include <vmas/vmas.hpp>
 
 namespace {

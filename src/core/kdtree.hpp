@@ -7,8 +7,6 @@
 
 #include "vmas/types.hpp"
 
-#pragma GCC visibility push(default)  // what the public headers declare is exported
-
 namespace vmas {
 
 class KdTree {
@@ -37,5 +35,3 @@ class KdTree {
 };
 
 }  // namespace vmas
-
-#pragma GCC visibility pop

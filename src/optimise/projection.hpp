@@ -5,27 +5,11 @@
 #include <memory>
 #include <vector>
 
-#include "vmas/kdtree.hpp"
-#include "vmas/shape.hpp"
-
-#pragma GCC visibility push(default)  // what the public headers declare is exported
+#include "core/kdtree.hpp"
+#include "vmas/options.hpp"
+#include "vmas/skeletonizer.hpp"
 
 namespace vmas {
-
-struct ShrinkingBallOptions {
-  int max_iterations = 30;
-  double tolerance = 1e-5;          // δ, relative to the bounding-box diagonal
-  double initial_radius = 1.0;      // first ball radius, relative to the diagonal
-  double denoise_angle_deg = 20.0;  // stop shrinking when the two contacts separate by less
-                                    // than this (noise, not a medial feature); 0 disables it
-  bool reject_outside = false;      // reject balls whose centre the winding number puts outside
-                                    // (when the data encloses a volume); for smoothed noisy data
-  double box_margin = 0.01;         // how far past the data's bounding box a ball may reach,
-                                    // relative to the diagonal
-  double enclosure = -1.0;          // the shape's enclosure (MedialProjector::enclosure) when
-                                    // measured on a denser sampling of it; < 0: measured here
-  void validate() const;            // throws InvalidOption
-};
 
 namespace internal {
 class ExteriorGrid;
@@ -114,5 +98,3 @@ class MedialProjector {
 };
 
 }  // namespace vmas
-
-#pragma GCC visibility pop
