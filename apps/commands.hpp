@@ -62,6 +62,24 @@ struct RunOptionValues {
   std::string denoise = "auto";  // --denoise as typed
   DensitySource density;
 };
+// One option of a run, as `vmas skeletonize`, `vmas edit` and Python's keywords take it (the long
+// name with '_' for '-'; lambda_). The one table of them gives the parser (add_run_options), the
+// flag a message about a field names (flag_of) and Python's vmas.options(); docs/cli.md's option
+// list, vmas.pyi's RunOptions and validate()'s ranges are checked against it
+// (tests/python/test_options.py).
+struct RunOption {
+  const char* flag;   // "lambda,l": the long name, and a one-letter one after the comma
+  const char* field;  // the field of vmas::Options it sets ("run.lambda"; "" for none)
+  // What validate() accepts: "[a, b]", "[a, b)", "(a, b)", ">= a", or words and one of those
+  // joined by " | " ("auto | off | [0, 0.5)"); "" for switches and text.
+  const char* range;
+  // How the parser reads its value into `values` (nullptr: a switch, no value).
+  boost::program_options::value_semantic* (*value)(RunOptionValues& values,
+                                                   const Options& defaults);
+  const char* help;
+};
+const std::vector<RunOption>& run_option_table();
+// Every row of run_option_table(), in its order (that of --help).
 void add_run_options(boost::program_options::options_description& visible, RunOptionValues& values);
 // After notify(): the flags and --denoise into `options`, then options.validate().
 void finish_run_options(const boost::program_options::variables_map& vm, RunOptionValues& values);

@@ -2,7 +2,8 @@
 // vmas::Options, spelled as on the command line.
 #include <filesystem>
 #include <string>
-#include <utility>
+#include <iterator>
+#include <vector>
 
 #include "commands.hpp"
 #include "standard_streams.hpp"
@@ -35,138 +36,166 @@ PrepareOptions::Denoise parse_denoise(const std::string& text, double& sigma) {
   return PrepareOptions::Denoise::Fixed;
 }
 
-// The field of vmas::Options each flag of add_run_options sets.
-constexpr std::pair<const char*, const char*> kFieldFlags[] = {
-    {"run.target.spheres", "spheres"},
-    {"run.target.error", "error"},
-    {"run.max_spheres", "max-spheres"},
-    {"run.lambda", "lambda"},
-    {"run.final_lambda", "final-lambda"},
-    {"run.final_rounds", "final-rounds"},
-    {"refine.max_moves", "refine-moves"},
-    {"refine.min_gain", "refine-min-gain"},
-    {"shape.k", "k"},
-    {"prepare.normals.k", "normal-k"},
-    {"prepare.max_points", "max-points"},
-    {"prepare.noise_sigma", "denoise"},
-    {"run.max_iterations", "max-iterations"},
-    {"run.convergence", "convergence"},
-    {"run.split_interval", "split-interval"},
-    {"run.split.max_per_round", "splits-per-round"},
-    {"run.shrinking_ball.denoise_angle_deg", "denoise-angle"},
-    {"run.shrinking_ball.tolerance", "ball-tolerance"},
-    {"starts", "starts"},
-    {"threads", "threads"}};
+// clang-format off
+const RunOption kRunOptions[] = {
+    {"spheres,n", "run.target.spheres", ">= 1",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.options.run.target.spheres); },
+     "number of medial spheres to produce (met exactly, at most the number of usable points; "
+     "default 100 when --error is absent)"},
+    {"error,e", "run.target.error", "(0, 1)",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.options.run.target.error); },
+     "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
+     "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)"},
+    {"max-spheres", "run.max_spheres", ">= 1",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.max_spheres)->default_value(d.run.max_spheres); },
+     "with --error: never more spheres than this, nor than usable points (also the largest "
+     "--spheres)"},
+    {"lambda,l", "run.lambda", "[0, 1e6]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.lambda)->default_value(d.run.lambda, "0.2"); },
+     "weight of the point-sphere term against the plane-sphere (SQEM) term"},
+    {"final-lambda", "run.final_lambda", "[0, 1e6]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.final_lambda)->default_value(d.run.final_lambda, "0.01"); },
+     "lambda of the refits that end the run (spheres reach the shape's extremities)"},
+    {"final-rounds", "run.final_rounds", "[0, 100]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.final_rounds)->default_value(d.run.final_rounds); },
+     "refits with --final-lambda after the optimisation (0: none)"},
+    {"refine-moves", "refine.max_moves", "[0, 1000]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.refine.max_moves)->default_value(d.refine.max_moves); },
+     "after the run, up to this many moves of a sphere to where the reconstruction error "
+     "(two-sided Hausdorff) is largest, each kept only if the measured error drops (0: off)"},
+    {"refine-min-gain", "refine.min_gain", "[0, 1)",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.refine.min_gain)->default_value(d.refine.min_gain, "0.01"); },
+     "stop refining after two moves in a row that lowered the error by less than this fraction"},
+    {"k", "shape.k", "[3, 100]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.shape.k)->default_value(d.shape.k); },
+     "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)"},
+    {"normal-k", "prepare.normals.k", "[3, 200]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.prepare.normals.k)->default_value(d.prepare.normals.k); },
+     "neighbours used to estimate and orient normals of clouds that have none"},
+    // How the input is prepared: thinning, normals, strays, mesh sampling, density, noise.
+    {"max-points", "prepare.max_points", "0 | >= 1000",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.prepare.max_points)->default_value(d.prepare.max_points); },
+     "a cloud with more points is thinned to about this many, one per voxel, for the run; "
+     "every point still gets a label (0: every point takes part)"},
+    {"estimate-normals", "prepare.estimate_normals", "", nullptr,
+     "estimate normals even if the file has them"},
+    {"keep-strays", "prepare.remove_stray_clusters", "", nullptr,
+     "keep groups of points apart from the object (stray clusters of at most 1 % of the points, "
+     "several spacings from the rest), which are otherwise removed"},
+    {"no-mesh-sampling", "prepare.sample_coarse_meshes", "", nullptr,
+     "keep a coarse mesh's vertices as they are; by default a mesh whose vertices are too sparse "
+     "for the method (long, thin faces) has its faces sampled"},
+    {"density", "", "",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.density.file_or_rule); },
+     "where the skeleton should be finer: a text file of one value >= 0 per input point, in the "
+     "input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most curved "
+     "points) or distance-to:X,Y,Z,R[,D] (D, 4 unless given, within R of X,Y,Z; 1 elsewhere). "
+     "With --spheres the spheres gather where it is high (4: about 4x the spheres per area of 1; "
+     "0: as few as the budget allows); with --error the threshold there is divided by it"},
+    {"density-field", "", "",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.density.field); },
+     "the density from the input itself: a PLY vertex property or PCD field of this name, or the "
+     "last column of an .xyz of 4 or 7 columns"},
+    {"denoise", "prepare.noise_sigma", "auto | off | [0, 0.5)",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.denoise)->default_value("auto"); },
+     "auto: measure the scan noise and, if there is any, remove outliers and smooth the points "
+     "(moving least squares) before the run; off: take the points as they are; or the noise "
+     "deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)"},
+    {"orient-normals", "prepare.orient_normals", "", nullptr,
+     "orient the file's normals consistently and outward instead of keeping their signs (for "
+     "normals with arbitrary signs, e.g. oriented towards a scanner)"},
+    {"no-projection", "run.project", "", nullptr,
+     "skip the shrinking-ball correction (spheres may leave the medial axis)"},
+    {"keep-cavities", "run.open_cavities", "", nullptr,
+     "keep the triangles that close cavities of the skeleton (closed pockets of triangles that "
+     "the medial axis of a solid never has), which are otherwise left out"},
+    {"no-coarse-start", "run.coarse_start", "", nullptr,
+     "with --spheres: grow the spheres on the whole shape from the start instead of on a "
+     "coarsened copy (slower)"},
+    {"max-iterations", "run.max_iterations", ">= 1",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.max_iterations)->default_value(d.run.max_iterations); },
+     "stop after this many partition/update steps"},
+    {"convergence", "run.convergence", "[0, 1)",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.convergence)->default_value(d.run.convergence, "0.0002"); },
+     "split (or stop) once the total error changes by less than this fraction per step"},
+    {"split-interval", "run.split_interval", ">= 1",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.split_interval)->default_value(d.run.split_interval); },
+     "split at least every this many steps while spheres are missing"},
+    {"splits-per-round", "run.split.max_per_round", ">= 1",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.split.max_per_round)
+           ->default_value(d.run.split.max_per_round); },
+     "with --spheres: at most this many spheres are added per split round, or 5 % of the count "
+     "when that is more (and at most 20 % of the count; --error grows by the 20 % alone)"},
+    {"denoise-angle", "run.shrinking_ball.denoise_angle_deg", "[0, 180)",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.shrinking_ball.denoise_angle_deg)
+           ->default_value(d.run.shrinking_ball.denoise_angle_deg); },
+     "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
+     "disables it"},
+    {"ball-tolerance", "run.shrinking_ball.tolerance", "[0, 0.1)",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.run.shrinking_ball.tolerance)
+           ->default_value(d.run.shrinking_ball.tolerance, "1e-05"); },
+     "shrinking ball: samples this close inside the ball do not shrink it (fraction of the "
+     "diagonal); raised automatically for smoothed scans"},
+    {"starts", "starts", "[1, 8]",
+     [](RunOptionValues& v, const Options& d) -> po::value_semantic* {
+       return po::value(&v.options.starts)->default_value(d.starts); },
+     "optimisations, each from the shape's own frame turned differently (results do not depend "
+     "on how the input is placed); the one with the least measured error is kept, unless its "
+     "skeleton has more pieces than the input (1: less time)"},
+    {"threads", "threads", ">= 0",
+     [](RunOptionValues& v, const Options&) -> po::value_semantic* {
+       return po::value(&v.options.threads)->default_value(0); },
+     "OpenMP threads (0: all cores)"},
+};
+// clang-format on
 
-// The options of add_run_options that say how the input is prepared (thinning, normals, strays,
-// mesh sampling, density, noise), in their place in --help.
-void add_preparation_options(po::options_description& visible, RunOptionValues& values) {
-  const Options defaults;
-  // clang-format off
-  visible.add_options()
-      ("max-points", po::value(&values.options.prepare.max_points)
-           ->default_value(defaults.prepare.max_points),
-       "a cloud with more points is thinned to about this many, one per voxel, for the run; "
-       "every point still gets a label (0: every point takes part)")
-      ("estimate-normals", "estimate normals even if the file has them")
-      ("keep-strays", "keep groups of points apart from the object (stray clusters of at most 1 % "
-       "of the points, several spacings from the rest), which are otherwise removed")
-      ("no-mesh-sampling", "keep a coarse mesh's vertices as they are; by default a mesh whose "
-       "vertices are too sparse for the method (long, thin faces) has its faces sampled")
-      ("density", po::value(&values.density.file_or_rule),
-       "where the skeleton should be finer: a text file of one value >= 0 per input point, in "
-       "the input's order, or a rule: curvature (1 where flattest, up to 4 at the 5 % most "
-       "curved points) or distance-to:X,Y,Z,R[,D] (D, 4 unless given, within R of X,Y,Z; 1 "
-       "elsewhere). With --spheres the spheres gather where it is high (4: about 4x the spheres "
-       "per area of 1; 0: as few as the budget allows); with --error the threshold there is "
-       "divided by it")
-      ("density-field", po::value(&values.density.field),
-       "the density from the input itself: a PLY vertex property or PCD field of this name, or "
-       "the last column of an .xyz of 4 or 7 columns")
-      ("denoise", po::value(&values.denoise)->default_value("auto"),
-       "auto: measure the scan noise and, if there is any, remove outliers and smooth the "
-       "points (moving least squares) before the run; off: take the points as they are; or the "
-       "noise deviation itself, as a fraction of the diagonal (0.005) or in percent (0.5%)")
-      ("orient-normals", "orient the file's normals consistently and outward instead of keeping "
-       "their signs (for normals with arbitrary signs, e.g. oriented towards a scanner)");
-  // clang-format on
+// The long name of a row's flag ("lambda,l": "lambda").
+std::string long_name(const RunOption& row) {
+  const std::string flag = row.flag;
+  return flag.substr(0, flag.find(','));
 }
 
 }  // namespace
 
 std::string flag_of(const std::string& option) {
-  for (const auto& [field, flag] : kFieldFlags)
-    if (option == field) return flag;
+  for (const RunOption& row : kRunOptions)
+    if (*row.field != '\0' && option == row.field) return long_name(row);
   return option;
+}
+
+const std::vector<RunOption>& run_option_table() {
+  static const std::vector<RunOption> table(std::begin(kRunOptions), std::end(kRunOptions));
+  return table;
 }
 
 void add_run_options(po::options_description& visible, RunOptionValues& values) {
   const Options defaults;
-  // clang-format off
-  visible.add_options()
-      ("spheres,n", po::value(&values.options.run.target.spheres),
-       "number of medial spheres to produce (met exactly, at most the number of usable points; "
-       "default 100 when --error is absent)")
-      ("error,e", po::value(&values.options.run.target.error),
-       "instead of a count: split until every cluster's RMS error sqrt(E(C)) is below E "
-       "(relative to the bounding-box diagonal, e.g. 0.005; scan noise sets a floor)")
-      ("max-spheres", po::value(&values.options.run.max_spheres)->default_value(defaults.run.max_spheres),
-       "with --error: never more spheres than this, nor than usable points (also the largest "
-       "--spheres)")
-      ("lambda,l", po::value(&values.options.run.lambda)->default_value(defaults.run.lambda, "0.2"),
-       "weight of the point-sphere term against the plane-sphere (SQEM) term")
-      ("final-lambda", po::value(&values.options.run.final_lambda)
-           ->default_value(defaults.run.final_lambda, "0.01"),
-       "lambda of the refits that end the run (spheres reach the shape's extremities)")
-      ("final-rounds", po::value(&values.options.run.final_rounds)
-           ->default_value(defaults.run.final_rounds),
-       "refits with --final-lambda after the optimisation (0: none)")
-      ("refine-moves", po::value(&values.options.refine.max_moves)
-           ->default_value(defaults.refine.max_moves),
-       "after the run, up to this many moves of a sphere to where the reconstruction error "
-       "(two-sided Hausdorff) is largest, each kept only if the measured error drops (0: off)")
-      ("refine-min-gain", po::value(&values.options.refine.min_gain)
-           ->default_value(defaults.refine.min_gain, "0.01"),
-       "stop refining after two moves in a row that lowered the error by less than this fraction")
-      ("k", po::value(&values.options.shape.k)->default_value(defaults.shape.k),
-       "neighbours per point of a cloud's k-NN graph (connectivity, quadric diffusion)")
-      ("normal-k", po::value(&values.options.prepare.normals.k)
-           ->default_value(defaults.prepare.normals.k),
-       "neighbours used to estimate and orient normals of clouds that have none");
-  add_preparation_options(visible, values);
-  visible.add_options()
-      ("no-projection", "skip the shrinking-ball correction (spheres may leave the medial axis)")
-      ("keep-cavities", "keep the triangles that close cavities of the skeleton (closed pockets "
-       "of triangles that the medial axis of a solid never has), which are otherwise left out")
-      ("no-coarse-start", "with --spheres: grow the spheres on the whole shape from the start "
-       "instead of on a coarsened copy (slower)")
-      ("max-iterations", po::value(&values.options.run.max_iterations)
-           ->default_value(defaults.run.max_iterations),
-       "stop after this many partition/update steps")
-      ("convergence", po::value(&values.options.run.convergence)
-           ->default_value(defaults.run.convergence, "0.0002"),
-       "split (or stop) once the total error changes by less than this fraction per step")
-      ("split-interval", po::value(&values.options.run.split_interval)
-           ->default_value(defaults.run.split_interval),
-       "split at least every this many steps while spheres are missing")
-      ("splits-per-round", po::value(&values.options.run.split.max_per_round)
-           ->default_value(defaults.run.split.max_per_round),
-       "with --spheres: at most this many spheres are added per split round, or 5 % of the count "
-       "when that is more (and at most 20 % of the count; --error grows by the 20 % alone)")
-      ("denoise-angle", po::value(&values.options.run.shrinking_ball.denoise_angle_deg)
-           ->default_value(defaults.run.shrinking_ball.denoise_angle_deg),
-       "shrinking ball: ignore contacts that separate by less than this many degrees (noise); 0 "
-       "disables it")
-      ("ball-tolerance", po::value(&values.options.run.shrinking_ball.tolerance)
-           ->default_value(defaults.run.shrinking_ball.tolerance, "1e-05"),
-       "shrinking ball: samples this close inside the ball do not shrink it (fraction of the "
-       "diagonal); raised automatically for smoothed scans")
-      ("starts", po::value(&values.options.starts)->default_value(defaults.starts),
-       "optimisations, each from the shape's own frame turned differently (results do not depend "
-       "on how the input is placed); the one with the least measured error is kept, unless its "
-       "skeleton has more pieces than the input (1: less time)")
-      ("threads", po::value(&values.options.threads)->default_value(0), "OpenMP threads (0: all cores)");
-  // clang-format on
+  for (const RunOption& row : kRunOptions) {
+    if (row.value)
+      visible.add_options()(row.flag, row.value(values, defaults), row.help);
+    else
+      visible.add_options()(row.flag, row.help);
+  }
 }
 
 void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {

@@ -1,6 +1,13 @@
 """Type stubs of `import vmas` (apps/python/vmas_module.cpp)."""
 
-from typing import Any, Callable, Optional, Union
+import os
+import sys
+from typing import Any, Callable, Optional, TypedDict, Union
+
+if sys.version_info >= (3, 11):
+    from typing import Unpack
+else:
+    from typing_extensions import Unpack
 
 import numpy as np
 import numpy.typing as npt
@@ -13,6 +20,36 @@ class InvalidOption(ValueError): ...
 class InvalidArgument(ValueError): ...
 class IoError(OSError): ...
 class Cancelled(Exception): ...
+
+class RunOptions(TypedDict, total=False):
+    """The keyword options of skeletonize(), Skeletonizer() and EditSession(): the options of
+    `vmas skeletonize --help` with '_' for '-' (vmas.options() lists them with their defaults
+    and ranges; tests/python/test_options.py checks this list against it)."""
+    max_spheres: int
+    lambda_: float
+    final_lambda: float
+    final_rounds: int
+    refine_moves: int
+    refine_min_gain: float
+    k: int
+    normal_k: int
+    max_points: int
+    estimate_normals: bool
+    keep_strays: bool
+    no_mesh_sampling: bool
+    density: Union[npt.ArrayLike, str, os.PathLike[str]]  # values per row, a rule, or a file
+    denoise: Union[str, float, bool]  # "auto", "off", 0.005, "0.5%"; True: auto, False: off
+    orient_normals: bool
+    no_projection: bool
+    keep_cavities: bool
+    no_coarse_start: bool
+    max_iterations: int
+    convergence: float
+    split_interval: int
+    splits_per_round: int
+    denoise_angle: float
+    ball_tolerance: float
+    starts: int
 
 class Surface:
     """A shape as vmas reads it."""
@@ -64,7 +101,7 @@ class Skeletonizer:
                  normals: Optional[npt.ArrayLike] = None,
                  faces: Optional[npt.ArrayLike] = None, *,
                  spheres: Optional[int] = None, error: Optional[float] = None,
-                 threads: int = 0, **options: Any) -> None: ...
+                 threads: int = 0, **options: Unpack[RunOptions]) -> None: ...
     def step(self) -> float: ...
     def advance(self) -> dict[str, Any]: ...
     def run(self, progress: Optional[Callable[[str, float], Optional[bool]]] = None
@@ -95,7 +132,7 @@ class EditSession:
                  normals: Optional[npt.ArrayLike] = None,
                  faces: Optional[npt.ArrayLike] = None, *,
                  spheres: Optional[int] = None, error: Optional[float] = None,
-                 threads: int = 0, **options: Any) -> None: ...
+                 threads: int = 0, **options: Unpack[RunOptions]) -> None: ...
     def remove(self, key: int) -> None: ...
     def split_at(self, vertex: int) -> None: ...
     def freeze(self, key: int, frozen: bool = True) -> None: ...
@@ -121,7 +158,8 @@ def skeletonize(points: Union[npt.ArrayLike, Surface],
                 error: Optional[float] = None,
                 threads: int = 0,
                 progress: Optional[Callable[[str, float], Optional[bool]]] = None,
-                **options: Any) -> Result: ...
+                **options: Unpack[RunOptions]) -> Result: ...
+def options() -> list[dict[str, Any]]: ...  # flag, short, keyword, field, type, default, range, help
 def read(path: str, *, density_field: Optional[str] = None) -> Surface: ...
 def density_by_rule(points: Union[npt.ArrayLike, Surface], rule: str) -> npt.NDArray[np.float64]: ...
 def read_medial(path: str) -> MedialMesh: ...

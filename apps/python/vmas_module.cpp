@@ -225,6 +225,49 @@ std::vector<std::string> words_of(const std::string& caller, const std::string& 
   return {};
 }
 
+// The Python type a keyword of that kind takes.
+const char* python_type(Kind kind) {
+  switch (kind) {
+    case Kind::Flag: return "bool";
+    case Kind::Integer: return "int";
+    case Kind::Real: return "float";
+    case Kind::Denoise: break;
+  }
+  return "str";
+}
+
+// vmas.options(): every row of the CLI's option table, as a keyword takes it.
+py::list option_table() {
+  cli::RunOptionValues values;
+  po::options_description visible;
+  cli::add_run_options(visible, values);
+  py::list rows;
+  for (const cli::RunOption& row : cli::run_option_table()) {
+    const std::string flag = row.flag;
+    const std::size_t comma = flag.find(',');
+    const std::string name = flag.substr(0, comma);
+    const po::option_description& option = visible.find(name, false);
+    // "arg (=0.2)": the default as --help shows it.
+    const std::string parameter = option.format_parameter();
+    const std::size_t shown = parameter.find("(=");
+    py::dict d;
+    d["flag"] = "--" + name;
+    d["short"] = comma == std::string::npos ? py::object(py::none())
+                                            : py::object(py::str("-" + flag.substr(comma + 1)));
+    d["keyword"] = keyword_of(name);
+    d["field"] = row.field;
+    d["type"] = python_type(kind_of(option));
+    d["default"] = kind_of(option) == Kind::Flag ? py::object(py::bool_(false))
+                   : shown == std::string::npos
+                       ? py::object(py::none())
+                       : py::object(py::str(parameter.substr(shown + 2, parameter.size() - shown - 3)));
+    d["range"] = row.range;
+    d["help"] = row.help;
+    rows.append(std::move(d));
+  }
+  return rows;
+}
+
 // The keyword arguments as the CLI's flags (lambda_ -> --lambda; True -> a flag), each checked
 // for its type, then parsed by the CLI's own parser: the same names, defaults, range checks and
 // messages.
@@ -1041,6 +1084,12 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 
 // Reading, writing and measuring as the CLI does.
 void def_io_and_evaluate(py::module_& m) {
+  m.def("options", &option_table,
+        "Every keyword option of skeletonize(), Skeletonizer() and EditSession(), as `vmas "
+        "skeletonize --help` lists it: a dict per option with flag, short, keyword, field (of "
+        "the C++ vmas::Options), type (bool, int, float, str), default (as --help shows it; "
+        "None for none), range (what is accepted) and help.");
+
   m.def(
       "read",
       [](const py::object& path, const py::object& density_field) {

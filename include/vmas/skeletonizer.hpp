@@ -15,6 +15,12 @@
 #include "vmas/options.hpp"
 #include "vmas/types.hpp"
 
+namespace vmas {
+// The shrinking ball on a shape (src/optimise/projection.hpp): internal, so declared before the
+// exported part, which would otherwise export its members.
+class MedialProjector;
+}  // namespace vmas
+
 #pragma GCC visibility push(default)  // what the public headers declare is exported
 
 namespace vmas {
@@ -72,8 +78,6 @@ struct Shape {
 // (flipped as a whole if the mesh is oriented inward); clouds need normals (InvalidInput
 // otherwise).
 Shape build_shape(const SurfaceInput& input, const ShapeOptions& options);
-
-class MedialProjector;  // the shrinking ball on a shape (src/optimise/projection.hpp)
 
 struct Progress {
   // The phases in the order a run goes through them; `fraction` rises from 0 to 1 once in each
