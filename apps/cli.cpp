@@ -37,7 +37,7 @@ boost::program_options::variables_map parse_arguments(
 }
 
 void set_threads(int threads) {
-  if (threads < 0) throw InvalidOption("--threads must be 0 or more");
+  if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
 #ifdef _OPENMP
   // More threads than cores only wait for each other (1000 threads ran 13 times slower).
   if (threads > 0) omp_set_num_threads(std::min(threads, omp_get_num_procs()));
@@ -54,8 +54,9 @@ std::pair<std::string, int> describe(const std::string& name, const std::excepti
     return {std::string(e.what()) + " (try: vmas " + name + " --help)", 2};
   } catch (const InvalidOption& e) {
     // Named as typed on the command line: "--lambda must be ...".
-    if (e.option().empty()) return {e.what(), 2};
     return {"--" + flag_of(e.option()) + " " + e.problem(), 2};
+  } catch (const UsageError& e) {
+    return {e.what(), 2};
   } catch (const std::exception& e) {
     return {e.what(), 1};
   } catch (...) {

@@ -88,11 +88,17 @@ void finish_run_options(const boost::program_options::variables_map& vm, RunOpti
 // (the commands' own, such as "port").
 std::string flag_of(const std::string& option);
 
-// Fails before any work is done when an output cannot possibly be written (a usage error):
+// A command line that cannot work whatever the data, about its paths rather than one option's
+// value (InvalidOption's): an output that cannot be written, or that is also an input. Exit 2.
+struct UsageError : Error {
+  using Error::Error;
+};
+
+// Fails before any work is done when an output cannot possibly be written (a UsageError):
 // `check` is vmas::check_output or vmas::check_medial_mesh_output.
 void check_output_option(const std::string& path, void (*check)(const std::string&));
 // Fails before any work when an output is one of the run's inputs or another of its outputs
-// (vmas::check_distinct_files), as a usage error. Empty paths (options not given) and `-`
+// (vmas::check_distinct_files), as a UsageError. Empty paths (options not given) and `-`
 // (standard input or output) are skipped.
 void check_distinct_files_option(const std::vector<std::string>& inputs,
                                  const std::vector<std::string>& outputs);

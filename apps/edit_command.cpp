@@ -299,7 +299,7 @@ int integer_field(const json& edit, const char* name) {
   const json& value = edit.at(name);
   if (!value.is_number_integer() || value.get<std::int64_t>() < INT32_MIN ||
       value.get<std::int64_t>() > INT32_MAX)
-    throw InvalidOption(std::string("\"") + name + "\" must be an integer of at most 2147483647");
+    throw InvalidArgument(std::string("\"") + name + "\" must be an integer of at most 2147483647");
   return static_cast<int>(value.get<std::int64_t>());
 }
 
@@ -351,14 +351,14 @@ std::string density_file(const InputRows& rows, const EditSnapshot& s) {
   return text;
 }
 
-// One POSTed edit; returns the reply's JSON. Throws InvalidOption (or json errors) for a bad one.
+// One POSTed edit; returns the reply's JSON. Throws InvalidArgument (or json errors) for a bad one.
 // "save" keeps the skeleton for /api/download and, with -o, writes OUTPUT too; with
 // `finish_on_save` it finishes the skeleton first (unless it is finished already).
 json apply_edit(EditSession& session, const json& edit, const std::string& output,
                 const std::string& download_name, const Frame& frame, bool finish_on_save,
                 Saved& saved, const InputRows& rows) {
   if (!edit.is_object() || !edit.contains("op") || !edit["op"].is_string())
-    throw InvalidOption("an edit is a JSON object with an \"op\"");
+    throw InvalidArgument("an edit is a JSON object with an \"op\"");
   const std::string op = edit["op"];
   // The page shows the finish's progress and then its result: an edit meanwhile would change
   // what it is about to show.
@@ -424,7 +424,7 @@ json apply_edit(EditSession& session, const json& edit, const std::string& outpu
     if (!output.empty()) reply["path"] = output;
     return reply;
   } else {
-    throw InvalidOption("unknown op '" + op + "'");
+    throw InvalidArgument("unknown op '" + op + "'");
   }
   return {{"ok", true}};
 }

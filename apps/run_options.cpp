@@ -255,7 +255,7 @@ void check_output_option(const std::string& path, void (*check)(const std::strin
   try {
     check(path);
   } catch (const IoError& e) {
-    throw InvalidOption(e.what());
+    throw UsageError(e.what());
   }
 }
 
@@ -270,7 +270,7 @@ void check_distinct_files_option(const std::vector<std::string>& inputs,
   try {
     check_distinct_files(given(inputs), given(outputs));
   } catch (const IoError& e) {
-    throw InvalidOption(e.what());
+    throw UsageError(e.what());
   }
 }
 

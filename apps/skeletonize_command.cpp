@@ -308,7 +308,7 @@ json run_one(const Job& job, const Settings& settings, ProgressStyle progress) {
 
 std::vector<std::string> read_input_list(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InvalidOption("--inputs: cannot read " + path);
+  if (!in) throw InvalidOption("inputs", path + ": cannot read it");
   std::vector<std::string> inputs;
   for (std::string line; std::getline(in, line);) {
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
@@ -325,8 +325,8 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
   std::error_code error;
   fs::create_directories(directory, error);
   if (!fs::is_directory(directory))
-    throw InvalidOption("--output-dir " + directory + ": cannot create the folder (" +
-                        error.message() + ")");
+    throw InvalidOption("output-dir",
+                        directory + ": cannot create the folder (" + error.message() + ")");
   std::vector<Job> jobs;
   std::map<std::string, std::string> taken;
   for (const std::string& input : inputs) {
@@ -334,8 +334,7 @@ std::vector<Job> batch_jobs(const std::vector<std::string>& inputs, const std::s
         (fs::path(directory) / fs::path(input).stem()).string() + "." + format;
     const auto [previous, fresh] = taken.emplace(output, input);
     if (!fresh)
-      throw InvalidOption(input + " and " + previous->second + " would both be written to " +
-                          output);
+      throw UsageError(input + " and " + previous->second + " would both be written to " + output);
     check_output_option(output, check_medial_mesh_output);
     jobs.push_back({input, output, ""});
   }
@@ -454,7 +453,7 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
 
   const std::string& format = settings.output_format;
   if (format != "ply" && format != "ma")
-    throw InvalidOption("--format must be ply or ma (got '" + format + "')");
+    throw InvalidOption("format", "must be ply or ma (got '" + format + "')");
   check_standard_input(r.inputs, settings.input_format);
   return r;
 }

@@ -293,8 +293,12 @@ Options options_of(const std::string& caller, const py::dict& keywords) {
         vm);
     po::notify(vm);
     cli::finish_run_options(vm, values);
-  } catch (const po::error& e) {
-    throw InvalidOption(e.what());
+  } catch (const po::error_with_option_name& e) {
+    // Keywords are type-checked before: what is left is a keyword given twice (lambda_ and
+    // **{"lambda": ...}).
+    std::string flag = e.get_option_name();
+    flag.erase(0, flag.find_first_not_of('-'));
+    throw InvalidOption(flag, std::string("is not valid here: ") + e.what());
   }
   return values.options;
 }
@@ -642,7 +646,7 @@ void def_errors(py::module_& m) {
       // Named as the keyword argument that sets it: "final_lambda must be ...".
       std::string name = cli::flag_of(e.option());
       std::replace(name.begin(), name.end(), '-', '_');
-      invalid_option(e.option().empty() ? e.what() : (name + " " + e.problem()).c_str());
+      invalid_option((name + " " + e.problem()).c_str());
     } catch (const InvalidArgument& e) {
       invalid_argument(e.what());
     } catch (const InvalidInput& e) {

@@ -28,7 +28,6 @@ struct InvalidInput : Error {
 // path and problem(), so that a front end can name the field its own way ("--lambda must be
 // ...").
 struct InvalidOption : Error {
-  using Error::Error;
   InvalidOption(const std::string& option, const std::string& problem)
       : Error(option + " " + problem), option_(option), problem_(problem) {}
   const std::string& option() const { return option_; }
