@@ -94,18 +94,23 @@ void BatchSummary::merge(const json& line) const {
   if (error) throw IoError(path_ + ": cannot replace the summary (" + error.message() + ")");
 }
 
-bool up_to_date(const json& line, const std::vector<std::string>& options,
-                const std::string& input, const std::string& output) {
-  if (line.contains("error") || !line.contains("batch_options") ||
-      line["batch_options"] != json(options))
-    return false;
+std::string reason_to_run(const json* line, const std::vector<std::string>& options,
+                          const std::string& input, const std::string& output) {
+  if (line == nullptr) return "not run yet";
+  if (line->contains("error"))
+    return "failed: " + ((*line)["error"].is_string() ? (*line)["error"].get<std::string>()
+                                                      : (*line)["error"].dump());
+  if (!line->contains("batch_options") || (*line)["batch_options"] != json(options))
+    return "last run with other options";
   std::error_code error;
   const auto size = fs::file_size(output, error);
-  if (error || size == 0) return false;
+  if (error) return output + " is missing";
+  if (size == 0) return output + " is empty";
   const auto output_time = fs::last_write_time(output, error);
-  if (error) return false;
+  if (error) return output + " is missing";
   const auto input_time = fs::last_write_time(input, error);
-  return !error && output_time > input_time;
+  if (error) return "cannot read " + input;
+  return output_time > input_time ? "" : "changed since " + output + " was written";
 }
 
 }  // namespace vmas::cli

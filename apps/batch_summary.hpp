@@ -28,10 +28,12 @@ class BatchSummary {
   std::string path_;
 };
 
-// Whether `line` (an input's line in a summary file) says that run needs no repeating: it has no
-// error, was made with `options` (its "batch_options"), and `output` exists, is not empty and is
-// newer than `input`.
-bool up_to_date(const nlohmann::ordered_json& line, const std::vector<std::string>& options,
-                const std::string& input, const std::string& output);
+// Why the input of `line` (its line in a summary file; nullptr: it has none) is to run again with
+// `options`: "" when that run needs no repeating, that is when the line has no error, was made
+// with `options` (its "batch_options"), and `output` exists, is not empty and is newer than
+// `input`; else the first of these that fails ("not run yet", "failed: MESSAGE", ...).
+std::string reason_to_run(const nlohmann::ordered_json* line,
+                          const std::vector<std::string>& options, const std::string& input,
+                          const std::string& output);
 
 }  // namespace vmas::cli

@@ -346,8 +346,11 @@ struct Request {
   Settings settings;
   std::vector<std::string> inputs;
   std::string output, output_dir, inputs_list, labels_path, summary_path;
-  bool batch = false;   // several inputs, or --output-dir
-  bool resume = false;  // skip the inputs that --summary's file shows done
+  std::string pending_path;  // --pending: the list of the inputs to run, written instead of running
+  std::string record_why;    // --record: the error of an input whose run left no line
+  bool batch = false;        // several inputs, or --output-dir
+  bool resume = false;       // skip the inputs that --summary's file shows done
+  bool record = false;       // take the input's line from standard input instead of running it
   // The options that shape the outputs, as --summary's file records them for --resume.
   std::vector<std::string> batch_options;
 };
@@ -355,8 +358,9 @@ struct Request {
 // The options that shape a batch's outputs, one "--name=value" each in the order given: neither
 // where the results go nor how they are reported, nor --threads (results do not depend on it).
 std::vector<std::string> options_shaping_outputs(const std::vector<po::option>& given) {
-  static const std::vector<std::string> kNotShaping = {
-      "output-dir", "inputs", "summary", "resume", "json", "quiet", "threads", "help"};
+  static const std::vector<std::string> kNotShaping = {"output-dir", "inputs", "summary", "resume",
+                                                       "pending",    "record", "json",    "quiet",
+                                                       "threads",    "help"};
   std::vector<std::string> shaping;
   for (const po::option& o : given) {
     if (o.position_key >= 0 ||
@@ -379,6 +383,12 @@ void check_destinations(const Request& r) {
   if (!r.batch && !r.summary_path.empty())
     throw po::error("--summary goes with several INPUTs or --output-dir");
   if (r.resume && r.summary_path.empty()) throw po::error("--resume needs --summary FILE");
+  if (!r.pending_path.empty() && r.summary_path.empty())
+    throw po::error("--pending needs --summary FILE");
+  if (r.record && r.summary_path.empty()) throw po::error("--record needs --summary FILE");
+  if (r.record && (r.resume || !r.pending_path.empty()))
+    throw po::error("--record goes without --resume and --pending");
+  if (r.record && r.inputs.size() != 1) throw po::error("--record takes one INPUT");
   if (r.batch && !r.labels_path.empty()) throw po::error("--labels takes one INPUT");
   const bool from_stdin = std::any_of(r.inputs.begin(), r.inputs.end(), is_standard_stream);
   if (from_stdin && r.batch) throw po::error("INPUT - (standard input) takes one INPUT");
@@ -414,6 +424,13 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
        "at once)")
       ("resume", "with --summary: skip each INPUT whose line there has no error and the same "
        "options, and whose output is newer than it")
+      ("pending", po::value(&r.pending_path),
+       "with --summary: run nothing; write the INPUTs a run would run (with --resume: those not "
+       "done) to this file, one per line, and print why each is to run (for launchers)")
+      ("record", po::value(&r.record_why),
+       "with --summary and one INPUT: run nothing; keep as INPUT's line the last JSON line on "
+       "standard input (of a run of it made elsewhere), under this batch's names, or else a "
+       "line saying INPUT failed with this error (for launchers)")
       ("eval", "also measure the result's reconstruction error against INPUT (as vmas eval)")
       ("quiet,q", "print nothing but errors and warnings");
   // clang-format on
@@ -440,6 +457,7 @@ std::optional<Request> read_request(int argc, const char* const* argv) {
   }
   r.batch = r.inputs.size() > 1 || !r.output_dir.empty();
   r.resume = vm.count("resume") > 0;
+  r.record = vm.count("record") > 0;
   r.batch_options = options_shaping_outputs(given);
   check_destinations(r);
   finish_run_options(vm, run_values);
@@ -500,18 +518,60 @@ void print_batch_line(const Job& job, const json& line, const Settings& settings
     return;
   } else if (line.contains("skipped")) {
     std::cout << job.input << " -> " << job.output << ": up to date, skipped" << std::endl;
+  } else if (line.contains("pending")) {
+    std::cout << job.input << ": " << line["pending"].get<std::string>() << std::endl;
   } else {
-    std::cout << job.input << " -> " << job.output << ": " << line["spheres"] << " spheres, "
-              << line["edges"] << " edges, " << line["medial_faces"] << " faces, "
-              << text_of(line["seconds"]["total"], "%.2f") << " s"
+    // By value: a line of --record is another vmas's, which may lack a field.
+    const auto field = [&](const std::string& pointer) {
+      return line.value(json::json_pointer(pointer), json());
+    };
+    const json warnings = field("/warnings");
+    std::cout << job.input << " -> " << job.output << ": " << field("/spheres") << " spheres, "
+              << field("/edges") << " edges, " << field("/medial_faces") << " faces, "
+              << text_of(line.value(json::json_pointer("/seconds/total"), 0.0), "%.2f") << " s"
               << (line.contains("eval")
-                      ? ", epsilon " + line["eval"]["hausdorff_percent"].dump() + " %"
+                      ? ", epsilon " + field("/eval/hausdorff_percent").dump() + " %"
                       : std::string())
-              << (line["warnings"].empty()
-                      ? ""
-                      : ", " + std::to_string(line["warnings"].size()) + " warning(s)")
+              << (warnings.empty() ? "" : ", " + std::to_string(warnings.size()) + " warning(s)")
               << std::endl;
   }
+}
+
+// --record: INPUT's line as a run made elsewhere left it on standard input (the last JSON object
+// with an "input" there: a run's --json output, or its summary file), with the input and output
+// named as this batch names them; without one, a line saying INPUT failed with the error `why`.
+json recorded_line(const Job& job, const std::string& why) {
+  json line;
+  for (std::string text; std::getline(std::cin, text);) {
+    json parsed = json::parse(text, nullptr, false);
+    if (parsed.is_object() && parsed.contains("input") && parsed["input"].is_string())
+      line = std::move(parsed);
+  }
+  if (line.is_null()) return {{"vmas", version()}, {"input", job.input}, {"error", why}};
+  line["input"] = job.input;
+  if (line.contains("output")) line["output"] = job.output;
+  return line;
+}
+
+// --pending FILE: the inputs a run would run (with --resume, those not done) into FILE, one per
+// line, for a launcher to hand out; a line for each saying why.
+void write_pending(const Request& r, const std::vector<Job>& jobs,
+                   const std::map<std::string, json>& earlier) {
+  std::ofstream list(r.pending_path, std::ios::trunc);
+  for (const Job& job : jobs) {
+    const auto done = earlier.find(job.input);
+    const std::string why = !r.resume
+                                ? "no --resume"
+                                : reason_to_run(done == earlier.end() ? nullptr : &done->second,
+                                                r.batch_options, job.input, job.output);
+    if (why.empty()) continue;
+    list << job.input << '\n';
+    print_batch_line(
+        job, {{"vmas", version()}, {"input", job.input}, {"output", job.output}, {"pending", why}},
+        r.settings);
+  }
+  list.flush();
+  if (!list) throw IoError(r.pending_path + ": cannot write the list");
 }
 
 // Several inputs: keep going after a failure, one line per file (and in --summary's file).
@@ -521,13 +581,18 @@ int run_batch(const Request& r) {
   std::vector<std::string> outputs, read = r.inputs;
   for (const Job& job : jobs) outputs.push_back(job.output);
   read.push_back(r.inputs_list);
-  if (!r.summary_path.empty()) {
-    check_output_option(r.summary_path, check_output);
-    outputs.push_back(r.summary_path);
-  }
+  for (const std::string* written : {&r.summary_path, &r.pending_path})
+    if (!written->empty()) {
+      check_output_option(*written, check_output);
+      outputs.push_back(*written);
+    }
   check_distinct_files_option(read, outputs);
   const BatchSummary summary(r.summary_path);
   const std::map<std::string, json> earlier = r.resume ? summary.read() : std::map<std::string, json>{};
+  if (!r.pending_path.empty()) {
+    write_pending(r, jobs, earlier);
+    return 0;
+  }
   const auto keep = [&](json line) {
     if (r.summary_path.empty()) return;
     line["batch_options"] = r.batch_options;
@@ -536,22 +601,28 @@ int run_batch(const Request& r) {
   int failed = 0;
   for (const Job& job : jobs) {
     const auto done = earlier.find(job.input);
-    if (done != earlier.end() && up_to_date(done->second, r.batch_options, job.input, job.output)) {
+    if (done != earlier.end() &&
+        reason_to_run(&done->second, r.batch_options, job.input, job.output).empty()) {
       print_batch_line(job, {{"vmas", version()}, {"input", job.input}, {"output", job.output},
                              {"skipped", "up to date"}}, settings);
       continue;
     }
     json line;
-    try {
-      line = run_one(job, settings, ProgressStyle::None);
-    } catch (const std::exception& e) {
-      ++failed;
-      line = {{"vmas", version()}, {"input", job.input}, {"error", e.what()}};
+    if (r.record) {
+      line = recorded_line(job, r.record_why);
+    } else {
+      try {
+        line = run_one(job, settings, ProgressStyle::None);
+      } catch (const std::exception& e) {
+        line = {{"vmas", version()}, {"input", job.input}, {"error", e.what()}};
+      }
     }
+    failed += line.contains("error");
     print_batch_line(job, line, settings);
     keep(line);
   }
-  if (failed > 0)
+  // A record is one line, which says it all.
+  if (failed > 0 && !r.record)
     std::cerr << "vmas skeletonize: " << failed << " of " << jobs.size() << " inputs failed\n";
   return failed > 0 ? 1 : 0;
 }

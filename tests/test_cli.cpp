@@ -283,6 +283,102 @@ TEST_F(Cli, BatchSummaryTakesTheLinesOfRunsAtOnce) {
   EXPECT_EQ(inputs.size(), static_cast<std::size_t>(kRuns * kInputsPerRun));
 }
 
+// What the launchers (scripts/skeletonize-parallel, -slurm) ask vmas instead of deciding it
+// themselves: --pending FILE lists the inputs a run would run, by --resume's rule, and says why;
+// --record keeps a line made elsewhere under this batch's names, or a failure for a run that
+// left none.
+TEST_F(Cli, BatchSummaryPendingAndRecordForLaunchers) {
+  write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
+  write("b.xyz", "1 2\n");
+  write_surface(path("c.off"), test::icosphere(Vec3::Zero(), 1.0, 2));
+  const std::string batch =
+      " --output-dir " + path("out") + " --summary " + path("out/summary.jsonl");
+  const std::string all =
+      "skeletonize " + path("a.off") + " " + path("b.xyz") + " " + path("c.off") + batch;
+  const auto has = [](const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+  };
+  // Nothing has run: every input is pending, and nothing but the list is written.
+  Result r = run(all + " -n 2 --resume --pending " + path("todo"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_text(path("todo")),
+            path("a.off") + "\n" + path("b.xyz") + "\n" + path("c.off") + "\n");
+  EXPECT_TRUE(has(r.out, path("a.off") + ": not run yet")) << r.out;
+  EXPECT_FALSE(fs::exists(path("out/a.ply")));
+  EXPECT_FALSE(fs::exists(path("out/summary.jsonl")));
+  // a done, b failed, c not run: b and c pending, and why.
+  EXPECT_EQ(run("skeletonize " + path("a.off") + " " + path("b.xyz") + batch + " -n 2").exit_code,
+            1);
+  r = run(all + " -n 2 --resume --pending " + path("todo") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_text(path("todo")), path("b.xyz") + "\n" + path("c.off") + "\n");
+  std::istringstream lines(r.out);
+  std::string first, second;
+  ASSERT_TRUE(std::getline(lines, first) && std::getline(lines, second)) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(first)["input"], path("b.xyz"));
+  EXPECT_TRUE(has(nlohmann::json::parse(first)["pending"].get<std::string>(), "failed: ")) << first;
+  EXPECT_EQ(nlohmann::json::parse(second)["pending"], "not run yet");
+  // Other options: a too; without --resume (a launcher's --force): every input.
+  r = run(all + " -n 3 --resume --pending " + path("todo"));
+  EXPECT_TRUE(has(r.out, path("a.off") + ": last run with other options")) << r.out;
+  EXPECT_EQ(run(all + " -n 2 --pending " + path("todo")).exit_code, 0);
+  EXPECT_EQ(read_text(path("todo")),
+            path("a.off") + "\n" + path("b.xyz") + "\n" + path("c.off") + "\n");
+
+  // c ran elsewhere (another machine, where it was ./c.off): its --json output, messages and all,
+  // is kept as c's line here, with this batch's input and output.
+  fs::create_directories(path("there"));
+  fs::copy_file(path("c.off"), path("there/c.off"));
+  r = run("skeletonize " + path("there/c.off") + " --output-dir " + path("there/out") +
+          " -n 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  write("c.log", "a message\n" + r.out + "another\n");
+  r = run("skeletonize " + path("c.off") + batch + " -n 2 --record unused < " + path("c.log"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, path("c.off") + " -> " + path("out/c.ply") + ": 2 spheres")) << r.out;
+  std::map<std::string, nlohmann::json> kept;
+  std::istringstream summary(read_text(path("out/summary.jsonl")));
+  for (std::string line; std::getline(summary, line);) {
+    const nlohmann::json parsed = nlohmann::json::parse(line);
+    kept[parsed["input"].get<std::string>()] = parsed;
+  }
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[path("c.off")]["output"], path("out/c.ply"));
+  EXPECT_EQ(kept[path("c.off")]["spheres"], 2);
+  EXPECT_EQ(kept[path("c.off")]["batch_options"], nlohmann::json::array({"--spheres=2"}));
+  // Done once its output is here too (as GNU parallel's --return copies it).
+  r = run(all + " -n 2 --resume --pending " + path("todo"));
+  EXPECT_TRUE(has(r.out, path("c.off") + ": " + path("out/c.ply") + " is missing")) << r.out;
+  fs::copy_file(path("there/out/c.ply"), path("out/c.ply"));
+  r = run(all + " -n 2 --resume --pending " + path("todo"));
+  EXPECT_EQ(read_text(path("todo")), path("b.xyz") + "\n");
+  // A run that left no line (killed, vmas missing there): a failure with the launcher's words,
+  // in place of a's good line; then a is pending again.
+  write("empty.log", "Killed\n");
+  r = run("skeletonize " + path("a.off") + batch + " -n 2 --record 'no summary (exit 137)' < " +
+          path("empty.log"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(has(r.out, path("a.off") + ": failed: no summary (exit 137)")) << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // the line says it all
+  EXPECT_TRUE(
+      has(read_text(path("out/summary.jsonl")),
+          "{\"vmas\":\"" + std::string(version()) + "\",\"input\":\"" + path("a.off") +
+              "\",\"error\":\"no summary (exit 137)\",\"batch_options\":[\"--spheres=2\"]}"));
+  r = run(all + " -n 2 --resume --pending " + path("todo"));
+  EXPECT_EQ(read_text(path("todo")), path("a.off") + "\n" + path("b.xyz") + "\n");
+
+  // Usage: both need a summary; --record takes one INPUT, and neither --resume nor --pending.
+  for (const std::string& wrong :
+       {all + " --resume --pending " + path("todo") + " --record x",
+        "skeletonize " + path("a.off") + " --output-dir " + path("out") + " --pending " +
+            path("todo"),
+        "skeletonize " + path("a.off") + " --output-dir " + path("out") + " --record x",
+        all + " --record x", "skeletonize " + path("a.off") + batch + " --resume --record x"}) {
+    r = run(wrong + " -n 2 < /dev/null");
+    EXPECT_EQ(r.exit_code, 2) << wrong << "\n" << r.err;
+  }
+}
+
 TEST_F(Cli, BatchUsageErrors) {
   write_surface(path("a.off"), test::capsule(0.2, 1.0, 8, 24));
   fs::create_directories(path("sub"));

@@ -90,6 +90,10 @@ def test_every_command_prints_what_the_schema_says(tmp_path):
     resumed = lines_of(again, 1)
     valid([resumed[0]], "skipped")
     valid([resumed[1]], "failure")
+    # What a launcher asks before and after its runs (--pending): the input still to run, and why.
+    pending = lines_of(again + ["--pending", str(tmp_path / "todo")], 0)
+    assert [p["input"] for p in pending] == [str(tmp_path / "missing.xyz")]
+    valid(pending, "pending")
     valid(lines_of(["skeletonize", ball, "-n", "0", "-o", out, "--json"], 2), "failure")
     valid(lines_of(["eval", ball, out, "--json"], 0), "eval")
     valid(lines_of(["eval", str(tmp_path / "missing.off"), out, "--json"], 1), "failure")
