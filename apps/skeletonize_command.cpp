@@ -557,7 +557,7 @@ json recorded_line(const Job& job, const std::string& why) {
 // line, for a launcher to hand out; a line for each saying why.
 void write_pending(const Request& r, const std::vector<Job>& jobs,
                    const std::map<std::string, json>& earlier) {
-  std::ofstream list(r.pending_path, std::ios::trunc);
+  std::string list;
   for (const Job& job : jobs) {
     const auto done = earlier.find(job.input);
     const std::string why = !r.resume
@@ -565,13 +565,12 @@ void write_pending(const Request& r, const std::vector<Job>& jobs,
                                 : reason_to_run(done == earlier.end() ? nullptr : &done->second,
                                                 r.batch_options, job.input, job.output);
     if (why.empty()) continue;
-    list << job.input << '\n';
+    list += job.input + '\n';
     print_batch_line(
         job, {{"vmas", version()}, {"input", job.input}, {"output", job.output}, {"pending", why}},
         r.settings);
   }
-  list.flush();
-  if (!list) throw IoError(r.pending_path + ": cannot write the list");
+  write_file_atomically(r.pending_path, list);
 }
 
 // Several inputs: keep going after a failure, one line per file (and in --summary's file).

@@ -1049,6 +1049,12 @@ void def_edit_session(py::module_& m) {
 
 // vmas.skeletonize: the CLI's run in one call.
 void def_skeletonize(py::module_& m) {
+  m.def("options", &option_table,
+        "Every keyword option of skeletonize(), Skeletonizer() and EditSession(), as `vmas "
+        "skeletonize --help` lists it: a dict per option with flag, short, keyword, field (of "
+        "the C++ vmas::Options), type (bool, int, float, str), default (as --help shows it; "
+        "None for none), range (what is accepted) and help.");
+
   m.def(
       "skeletonize",
       [](py::object points, py::object normals, py::object faces, py::object spheres,
@@ -1088,12 +1094,6 @@ wrong shape, KeyboardInterrupt on Ctrl-C.)");
 
 // Reading, writing and measuring as the CLI does.
 void def_io_and_evaluate(py::module_& m) {
-  m.def("options", &option_table,
-        "Every keyword option of skeletonize(), Skeletonizer() and EditSession(), as `vmas "
-        "skeletonize --help` lists it: a dict per option with flag, short, keyword, field (of "
-        "the C++ vmas::Options), type (bool, int, float, str), default (as --help shows it; "
-        "None for none), range (what is accepted) and help.");
-
   m.def(
       "read",
       [](const py::object& path, const py::object& density_field) {
