@@ -123,6 +123,10 @@ const RunOption kRunOptions[] = {
     {"keep-cavities", "run.open_cavities", "", nullptr,
      "keep the triangles that close cavities of the skeleton (closed pockets of triangles that "
      "the medial axis of a solid never has), which are otherwise left out"},
+    {"keep-loops", "loops_to_genus", "", nullptr,
+     "keep the skeleton's loops as cluster adjacency makes them; by default a closed mesh's "
+     "skeleton gets as many as the mesh's genus: extra ones (rings of spheres around a tube) "
+     "filled with triangles, missing ones opened"},
     {"no-coarse-start", "run.coarse_start", "", nullptr,
      "with --spheres: grow the spheres on the whole shape from the start instead of on a "
      "coarsened copy (slower)"},
@@ -209,6 +213,7 @@ void finish_run_options(const po::variables_map& vm, RunOptionValues& values) {
   options.run.project = !vm.count("no-projection");
   options.run.coarse_start = !vm.count("no-coarse-start");
   options.run.open_cavities = vm.count("keep-cavities") == 0;
+  options.loops_to_genus = vm.count("keep-loops") == 0;
   options.prepare.denoise = parse_denoise(values.denoise, options.prepare.noise_sigma);
   options.prepare.estimate_normals = vm.count("estimate-normals") > 0;
   options.prepare.remove_stray_clusters = vm.count("keep-strays") == 0;

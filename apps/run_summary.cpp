@@ -125,6 +125,9 @@ json run_summary(const Result& result, const RunContext& run) {
   const RefineReport& refine = result.refine;
   json starts = json::array();
   for (double error : result.start_errors) starts.push_back(std::round(error * 1e5) / 1e3);
+  json skeleton_topology = topology_summary(result.topology, result.input_genus);
+  skeleton_topology["loops_filled"] = result.loops_filled;
+  skeleton_topology["loops_opened"] = result.loops_opened;
   json summary = {{"vmas", version()}};
   if (!run.input.empty()) summary["input"] = run.input;
   if (!run.output.empty()) summary["output"] = run.output;
@@ -163,7 +166,7 @@ json run_summary(const Result& result, const RunContext& run) {
                                        prepared.diagonal)}}},
        {"components",
         {{"input", result.input_components}, {"skeleton", result.skeleton_components}}},
-       {"topology", topology_summary(result.topology, result.input_genus)},
+       {"topology", skeleton_topology},
        {"invalid_spheres",
         {{"checked", result.invalid_spheres.checked},
          {"outside", result.invalid_spheres.outside},

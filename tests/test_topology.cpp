@@ -1,6 +1,7 @@
 // Betti numbers of medial meshes and the genus of closed meshes, exact on shapes built by hand.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -141,6 +142,72 @@ TEST(MedialTopology, CavitiesOfARunAreReportedAndLeftOutOnRequest) {
   EXPECT_EQ(opened.topology.loops, 1);
   EXPECT_EQ(opened.topology.cavities, 0);
   EXPECT_FALSE(has_warning(opened));
+}
+
+// `count` spheres of radius 0.05 on a circle of `radius` about `center` in the z = 0 plane,
+// appended to `medial` and joined in a ring.
+void add_ring(MedialMesh& medial, const Vec3& center, double radius, int count) {
+  const int first = static_cast<int>(medial.spheres.size());
+  for (int i = 0; i < count; ++i) {
+    const double angle = 2.0 * M_PI * i / count;
+    medial.spheres.push_back({center + radius * Vec3(std::cos(angle), std::sin(angle), 0.0), 0.05});
+    medial.edges.push_back({first + i, first + (i + 1) % count});
+  }
+}
+
+TEST(MedialTopology, ExtraLoopsAreFilledShortestFirst) {
+  // A small ring (around a tube: 6 spheres 0.1 from its axis) and a big one (a handle: 10
+  // spheres on a circle of 1), joined by an edge: two loops.
+  MedialMesh medial;
+  add_ring(medial, Vec3(0, 0, 0), 1.0, 10);
+  add_ring(medial, Vec3(3, 0, 0), 0.1, 6);
+  medial.edges.push_back({0, 10 + 3});
+  ASSERT_EQ(medial_topology(medial).loops, 2);
+  int filled = 0;
+  // Genus 1: the handle's loop stays, the small ring is filled.
+  const MedialMesh one = fill_extra_loops(medial, 1, &filled);
+  EXPECT_EQ(filled, 1);
+  const MedialTopology after = medial_topology(one);
+  EXPECT_EQ(after.components, 1);
+  EXPECT_EQ(after.loops, 1);
+  EXPECT_EQ(after.cavities, 0);
+  EXPECT_EQ(after.duplicate_triangles, 0u);
+  EXPECT_EQ(one.spheres.size(), medial.spheres.size());
+  EXPECT_EQ(one.faces.size(), 4u);  // a hexagon: four triangles, three new edges
+  EXPECT_EQ(one.edges.size(), medial.edges.size() + 3);
+  for (const auto& f : one.faces)
+    for (int s : f) EXPECT_GE(s, 10) << "a triangle of the handle's loop";
+  // Genus 0: both; a skeleton with no extra loop is returned as it was.
+  const MedialMesh none = fill_extra_loops(medial, 0, &filled);
+  EXPECT_EQ(filled, 2);
+  EXPECT_EQ(medial_topology(none).loops, 0);
+  EXPECT_EQ(medial_topology(none).cavities, 0);
+  const MedialMesh same = fill_extra_loops(one, 1, &filled);
+  EXPECT_EQ(filled, 0);
+  EXPECT_EQ(same.faces.size(), one.faces.size());
+  EXPECT_EQ(same.edges.size(), one.edges.size());
+}
+
+// Three spheres around a torus: their clusters touch pairwise, each pair across one cut of the
+// ring, and meet nowhere, so cluster adjacency's triangle fills the handle's loop.
+TEST(MedialTopology, AHandlesLoopThatATriangleFillsIsOpened) {
+  const SurfaceInput torus = test::torus(1.0, 0.3, 48, 24);
+  Options options;
+  options.run.target.spheres = 3;
+  options.loops_to_genus = false;
+  const Result as_built = skeletonize(torus, options);
+  ASSERT_EQ(as_built.topology.loops, 0) << "the case this test is about";
+  ASSERT_EQ(as_built.medial_mesh.faces.size(), 1u);
+  options.loops_to_genus = true;
+  const Result opened = skeletonize(torus, options);
+  EXPECT_EQ(opened.loops_opened, 1);
+  EXPECT_EQ(opened.loops_filled, 0);
+  EXPECT_EQ(opened.topology.components, 1);
+  EXPECT_EQ(opened.topology.loops, 1);
+  EXPECT_EQ(opened.topology.cavities, 0);
+  EXPECT_TRUE(opened.medial_mesh.faces.empty());
+  EXPECT_EQ(opened.medial_mesh.spheres.size(), 3u);
+  for (const Warning& w : opened.warnings) EXPECT_NE(w.code, "topology-mismatch") << w.message;
 }
 
 }  // namespace

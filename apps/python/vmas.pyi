@@ -42,6 +42,7 @@ class RunOptions(TypedDict, total=False):
     orient_normals: bool
     no_projection: bool
     keep_cavities: bool
+    keep_loops: bool
     no_coarse_start: bool
     max_iterations: int
     convergence: float

@@ -353,6 +353,13 @@ struct Options {
   SkeletonizerOptions run;  // the target (run.target: spheres or error), λ, final refits,
                             // convergence, shrinking balls, ...
   RefineOptions refine;     // worst-case refinement after the run (max_moves 0: off)
+  // A closed mesh of known genus g: the skeleton's loops are brought to g. Extra ones (rings of
+  // spheres around a tube) are filled with triangles between their spheres, the shortest first;
+  // a missing one (a handle's loop filled by a triangle whose three clusters meet nowhere on the
+  // surface, but pairwise around the handle) is opened by leaving such triangles out
+  // (Result::loops_filled, loops_opened). No sphere is added or moved. False: the loops are
+  // kept as cluster adjacency makes them.
+  bool loops_to_genus = true;
   // Throws InvalidOption naming the option; option() gives its CLI name.
   void validate() const;
 };

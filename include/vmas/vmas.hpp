@@ -42,6 +42,8 @@ struct Result {
   int skeleton_components = 0;  // of the medial mesh
   SurfaceGenus input_genus;     // meshes: the genus of each piece, when known
   MedialTopology topology;      // of the medial mesh: pieces, loops, cavities
+  int loops_filled = 0;         // extra loops filled (Options::loops_to_genus)
+  int loops_opened = 0;         // missing loops opened (Options::loops_to_genus)
   InvalidSpheres invalid_spheres;
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
                                 // data (the refinement's measure), fraction of its diagonal

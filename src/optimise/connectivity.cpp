@@ -1,6 +1,7 @@
 #include "optimise/connectivity.hpp"
 
 #include <algorithm>
+#include <set>
 
 #include "core/disjoint_sets.hpp"
 
@@ -51,6 +52,32 @@ MedialMesh build_medial_mesh(const std::vector<Sphere>& spheres,
     }
   }
   return mesh;
+}
+
+std::vector<std::array<int, 3>> triangles_meeting_nowhere(const Shape& shape,
+                                                          const std::vector<int>& labels,
+                                                          const MedialMesh& mesh) {
+  std::set<std::array<int, 3>> meeting;
+  std::vector<int> around;
+  for (int v = 0; v < shape.size(); ++v) {
+    around.assign(1, labels[v]);
+    for (int i = shape.neighbour_offsets[v]; i < shape.neighbour_offsets[v + 1]; ++i)
+      around.push_back(labels[shape.neighbours[i]]);
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    around.erase(around.begin(), std::lower_bound(around.begin(), around.end(), 0));
+    const std::size_t n = around.size();
+    for (std::size_t a = 0; a + 2 < n; ++a)
+      for (std::size_t b = a + 1; b + 1 < n; ++b)
+        for (std::size_t c = b + 1; c < n; ++c) meeting.insert({around[a], around[b], around[c]});
+  }
+  std::vector<std::array<int, 3>> nowhere;
+  for (std::array<int, 3> face : mesh.faces) {
+    std::sort(face.begin(), face.end());
+    if (!meeting.count(face)) nowhere.push_back(face);
+  }
+  std::sort(nowhere.begin(), nowhere.end());
+  return nowhere;
 }
 
 int component_count(const Shape& shape) {

@@ -2,6 +2,7 @@
 #include "vmas/vmas.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -140,8 +141,10 @@ std::vector<Warning> warnings_about(const Result& result) {
     if (loops_differ)
       remedy += std::string(remedy.empty() ? "" : "; ") +
                 (topology.loops < result.input_genus.genus.front()
-                     ? "more spheres (--spheres) usually close a missing loop"
-                     : "an extra loop is a hole of the skeleton: more spheres usually fill it");
+                     ? "more spheres (--spheres) usually open a missing loop"
+                     : "an extra loop is a ring of spheres around a tube: more spheres usually "
+                       "close it, and unless --keep-loops a closed mesh's are filled "
+                       "(options.loops_to_genus)");
     warnings.push_back({"topology-mismatch", what + ": " + remedy});
   }
   const InvalidSpheres& invalid = result.invalid_spheres;
@@ -333,6 +336,9 @@ namespace {
 struct Pass {
   Result result;
   SkeletonizerState state;
+  // The triangles of result.medial_mesh whose clusters meet nowhere on the shape (sorted
+  // spheres): those that may fill a handle's loop.
+  std::vector<std::array<int, 3>> meeting_nowhere;
 };
 
 // What another start needs of `prepared`: all but its shape, which the start builds in its own
@@ -409,6 +415,9 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   // Every triangle until skeletonize() ends: the choice of a start and the check of the
   // smoothing measure what the refinement measured.
   result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
+  if (result.input_genus.known)  // what open_missing_loops may take out (only a mesh's genus is known)
+    pass.meeting_nowhere =
+        triangles_meeting_nowhere(skeletonizer.shape(), skeletonizer.labels(), result.medial_mesh);
   result.skeleton_components = component_count(result.medial_mesh);
   result.seconds.connectivity = seconds_since(connectivity_start);
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
@@ -741,6 +750,14 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   }
   Result result = std::move(pass.result);
   if (options.run.open_cavities) result.medial_mesh = without_cavities(std::move(result.medial_mesh));
+  if (options.loops_to_genus && result.input_genus.known) {
+    const std::vector<int>& genus = result.input_genus.genus;
+    const int loops = std::accumulate(genus.begin(), genus.end(), 0);
+    result.medial_mesh = open_missing_loops(std::move(result.medial_mesh), loops,
+                                            pass.meeting_nowhere, &result.loops_opened);
+    result.medial_mesh =
+        fill_extra_loops(std::move(result.medial_mesh), loops, &result.loops_filled);
+  }
   result.topology = medial_topology(result.medial_mesh);
   result.warnings = warnings_about(result);
   result.seconds.total = seconds_since(start);
