@@ -1092,8 +1092,8 @@ vmas.InvalidInput (data that cannot give the skeleton asked for), ValueError for
 wrong shape, KeyboardInterrupt on Ctrl-C.)");
 }
 
-// Reading, writing and measuring as the CLI does.
-void def_io_and_evaluate(py::module_& m) {
+// Reading and writing as the CLI does.
+void def_io(py::module_& m) {
   m.def(
       "read",
       [](const py::object& path, const py::object& density_field) {
@@ -1146,7 +1146,10 @@ void def_io_and_evaluate(py::module_& m) {
         return read_medial_mesh(file);
       },
       py::arg("path"), "Reads a medial mesh (.ply or .ma).");
+}
 
+// Measuring as `vmas eval` does.
+void def_evaluate(py::module_& m) {
   m.def(
       "evaluate",
       [](py::object shape, py::object medial, py::object faces) {
@@ -1197,5 +1200,6 @@ PYBIND11_MODULE(vmas, m) {
   def_skeletonizer(m);
   def_edit_session(m);
   def_skeletonize(m);
-  def_io_and_evaluate(m);
+  def_io(m);
+  def_evaluate(m);
 }

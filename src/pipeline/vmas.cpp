@@ -141,7 +141,9 @@ std::vector<Warning> warnings_about(const Result& result) {
     if (loops_differ)
       remedy += std::string(remedy.empty() ? "" : "; ") +
                 (topology.loops < result.input_genus.genus.front()
-                     ? "more spheres (--spheres) usually open a missing loop"
+                     ? "more spheres (--spheres) usually open a missing loop (unless "
+                       "--keep-loops, a closed mesh's triangles that fill one are left out "
+                       "where their clusters meet nowhere: options.loops_to_genus)"
                      : "an extra loop is a ring of spheres around a tube: more spheres usually "
                        "close it, and unless --keep-loops a closed mesh's are filled "
                        "(options.loops_to_genus)");
@@ -415,7 +417,8 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   // Every triangle until skeletonize() ends: the choice of a start and the check of the
   // smoothing measure what the refinement measured.
   result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
-  if (result.input_genus.known)  // what open_missing_loops may take out (only a mesh's genus is known)
+  // What open_missing_loops may take out (only a closed mesh's genus is known).
+  if (result.input_genus.known)
     pass.meeting_nowhere =
         triangles_meeting_nowhere(skeletonizer.shape(), skeletonizer.labels(), result.medial_mesh);
   result.skeleton_components = component_count(result.medial_mesh);
