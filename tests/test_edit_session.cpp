@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "optimise/topology.hpp"
 #include "test_shapes.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/error.hpp"
@@ -426,6 +427,66 @@ TEST(EditSession, PaintedDensityDrawsSpheresAndUndoTakesItBack) {
   EXPECT_THROW(session->paint_density(top, 0.3, 1e9), InvalidOption);
   EXPECT_THROW(session->set_density(std::vector<double>(3, 1.0)), InvalidArgument);
   EXPECT_THROW(session->set_density(std::vector<double>(shape.size(), 0.0)), InvalidArgument);
+}
+
+// A snapshot's topology is medial_topology of its mesh, with the genus given; the loops beyond
+// that genus are those extra_loops finds (a torus's loop is one when the genus is said to be 0).
+TEST(EditSession, SnapshotsCarryTheirMeshsTopologyTheGenusAndTheExtraLoops) {
+  Options options;
+  options.run.target.spheres = 20;
+  options.threads = 1;
+  const PreparedShape prepared = prepare_shape(test::torus(1.0, 0.3, 48, 24), options);
+  ASSERT_EQ(prepared.result.input_genus.genus, std::vector<int>{1});
+  const auto has_its_loop = [](const EditSnapshot& s) {
+    return s.spheres.size() == 20 && s.topology.components == 1 && s.topology.loops == 1;
+  };
+  const auto expect_its_meshs = [](const EditSnapshot& s) {
+    const MedialTopology t = medial_topology(s.mesh);
+    EXPECT_EQ(s.topology.components, t.components);
+    EXPECT_EQ(s.topology.loops, t.loops);
+    EXPECT_EQ(s.topology.cavities, t.cavities);
+    EXPECT_EQ(s.topology.closing_triangles, t.closing_triangles);
+  };
+  {
+    EditSession session(prepared.shape, prepared.run, 1, {}, prepared.result.input_genus);
+    const EditSnapshot s = wait_until(session, has_its_loop);
+    ASSERT_TRUE(has_its_loop(s));
+    expect_its_meshs(s);
+    EXPECT_TRUE(s.input_genus.known);
+    EXPECT_EQ(s.input_genus.genus, std::vector<int>{1});
+    EXPECT_TRUE(s.extra_loops.empty());
+    EXPECT_EQ(s.topology.cavities, 0);  // left out (open_cavities)
+    EXPECT_TRUE(s.topology.closing_triangles.empty());
+    // Paused: a removal gives a mesh of its own, and λ keeps the mesh (and its topology).
+    session.pause(true);
+    session.remove(s.keys[0]);
+    const EditSnapshot fewer =
+        wait_until(session, [](const EditSnapshot& s) { return s.spheres.size() == 19; });
+    ASSERT_EQ(fewer.spheres.size(), 19u);
+    expect_its_meshs(fewer);
+    session.set_lambda(0.5);
+    const EditSnapshot same =
+        wait_until(session, [](const EditSnapshot& s) { return s.lambda == 0.5; });
+    ASSERT_EQ(same.lambda, 0.5);
+    EXPECT_EQ(same.mesh.faces, fewer.mesh.faces);
+    expect_its_meshs(same);
+  }
+  SurfaceGenus sphere;  // as if the torus were a sphere: its loop is one too many
+  sphere.known = true;
+  sphere.genus = {0};
+  EditSession session(prepared.shape, prepared.run, 1, {}, sphere);
+  const EditSnapshot s = wait_until(session, has_its_loop);
+  ASSERT_TRUE(has_its_loop(s));
+  expect_its_meshs(s);
+  ASSERT_EQ(s.extra_loops.size(), 1u);
+  EXPECT_EQ(s.extra_loops, extra_loops(s.mesh, 0));
+  EXPECT_GE(s.extra_loops[0].size(), 3u);
+  // A cloud's genus is unknown: no loop is extra.
+  const auto cloud = capsule_session(6);
+  const EditSnapshot c = settled(*cloud, 6);
+  EXPECT_FALSE(c.input_genus.known);
+  EXPECT_TRUE(c.extra_loops.empty());
+  expect_its_meshs(c);
 }
 
 }  // namespace

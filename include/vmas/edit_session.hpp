@@ -60,6 +60,14 @@ struct EditSnapshot {
   // session, and how many times it has changed (painted, set, undone).
   std::shared_ptr<const std::vector<double>> density;
   std::uint64_t density_changes = 0;
+  // The topology of `mesh` (issue 50; docs/design.md, "Loops brought to a closed mesh's genus"):
+  // medial_topology's Betti numbers (its closing_triangles, indices into mesh.faces, each close a
+  // cavity), the genus of the shape's pieces when known (the session's input_genus), and the
+  // loops beyond that genus, each as its sphere ids around it, shortest first (extra_loops;
+  // none when the genus is unknown). Computed again only when the mesh changed.
+  MedialTopology topology;
+  SurfaceGenus input_genus;
+  std::vector<std::vector<int>> extra_loops;
 };
 
 // What finish() measures against and how it refines.
@@ -88,9 +96,11 @@ class EditSession {
   static constexpr std::size_t kMaxPendingEdits = 1000;
 
   // Starts optimising at once (from one sphere, splitting up to options.target), with
-  // `threads` OpenMP threads in the worker (0: OpenMP's default, all cores).
+  // `threads` OpenMP threads in the worker (0: OpenMP's default, all cores). `input_genus`: the
+  // genus of the shape's pieces when known (a closed mesh's, PreparedShape::result.input_genus),
+  // which snapshots count extra loops against.
   EditSession(Shape shape, const SkeletonizerOptions& options, int threads = 0,
-              FinishOptions finish = {});
+              FinishOptions finish = {}, SurfaceGenus input_genus = {});
   ~EditSession();  // stops the worker
   EditSession(const EditSession&) = delete;
   EditSession& operator=(const EditSession&) = delete;

@@ -6,10 +6,12 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <numeric>
 #include <string>
 #include <thread>
 
 #include "eval/envelope.hpp"
+#include "optimise/topology.hpp"
 #include "vmas/error.hpp"
 
 #ifdef _OPENMP
@@ -29,11 +31,22 @@ constexpr auto kSettledStepPause = std::chrono::milliseconds(33);
 // A settled skeleton is measured at most this often (the page shows the error).
 constexpr auto kMeasureInterval = std::chrono::seconds(2);
 
+// Whether two meshes are the same to the bit (the topology of one is that of the other).
+bool same_mesh(const MedialMesh& a, const MedialMesh& b) {
+  const auto same_sphere = [](const Sphere& x, const Sphere& y) {
+    return x.center == y.center && x.radius == y.radius;
+  };
+  return a.edges == b.edges && a.faces == b.faces &&
+         std::equal(a.spheres.begin(), a.spheres.end(), b.spheres.begin(), b.spheres.end(),
+                    same_sphere);
+}
+
 }  // namespace
 
 // The session behind EditSession: the worker thread, the queue of edits and the undo history.
 struct EditSession::Impl {
-  Impl(Shape shape, const SkeletonizerOptions& options, int threads, FinishOptions finish);
+  Impl(Shape shape, const SkeletonizerOptions& options, int threads, FinishOptions finish,
+       SurfaceGenus input_genus);
   ~Impl();  // stops the worker
 
   struct Edit {
@@ -84,6 +97,7 @@ struct EditSession::Impl {
   Moment moment() const;            // worker thread
   void go_back_to(const Moment& m);  // worker thread
   void publish(double steps_per_second);
+  void update_topology(const MedialMesh& mesh);  // worker thread
 
   std::unique_ptr<Skeletonizer> skeletonizer_;
   const int threads_;
@@ -102,6 +116,12 @@ struct EditSession::Impl {
   double error_before_finish_ = 0.0, error_after_finish_ = 0.0;
   double measured_error_ = 0.0;
   int measured_at_iteration_ = -1;
+  const SurfaceGenus input_genus_;
+  // Worker's: the topology of topology_mesh_ (that of an empty mesh to start with: its
+  // defaults), kept while the published mesh stays the same.
+  MedialMesh topology_mesh_;
+  MedialTopology topology_;
+  std::vector<std::vector<int>> extra_loops_;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
@@ -115,11 +135,12 @@ struct EditSession::Impl {
 };
 
 EditSession::Impl::Impl(Shape shape, const SkeletonizerOptions& options, int threads,
-                         FinishOptions finish)
+                        FinishOptions finish, SurfaceGenus input_genus)
     : skeletonizer_(std::make_unique<Skeletonizer>(std::move(shape), options)),
       threads_(threads),
       most_spheres_(std::min(options.max_spheres, skeletonizer_->shape().size())),
-      finish_options_(std::move(finish)) {
+      finish_options_(std::move(finish)),
+      input_genus_(std::move(input_genus)) {
   if (threads < 0) throw InvalidOption("threads", "must be 0 or more");
   finish_options_.refine.validate();
   skeletonizer_->pass_over_settled(true);  // a session steps on for ever once settled
@@ -526,6 +547,10 @@ void EditSession::Impl::publish(double steps_per_second) {
   next.measured_at_iteration = measured_at_iteration_;
   next.density = density_;
   next.density_changes = density_changes_;
+  update_topology(next.mesh);
+  next.topology = topology_;
+  next.input_genus = input_genus_;
+  next.extra_loops = extra_loops_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     next.version = published_.version + 1;
@@ -535,6 +560,19 @@ void EditSession::Impl::publish(double steps_per_second) {
     published_ = std::move(next);
   }
   changed_.notify_all();
+}
+
+// The elimination over Z/2 (and the search for extra loops) only for a mesh that changed: a
+// paused or settled skeleton publishes the same one again and again.
+void EditSession::Impl::update_topology(const MedialMesh& mesh) {
+  if (same_mesh(mesh, topology_mesh_)) return;
+  topology_ = medial_topology(mesh);
+  extra_loops_.clear();
+  if (input_genus_.known) {
+    const int genus = std::accumulate(input_genus_.genus.begin(), input_genus_.genus.end(), 0);
+    if (topology_.loops > genus) extra_loops_ = extra_loops(mesh, genus);
+  }
+  topology_mesh_ = mesh;
 }
 
 void EditSession::Impl::work() {
@@ -592,8 +630,9 @@ void EditSession::Impl::work() {
 }
 
 EditSession::EditSession(Shape shape, const SkeletonizerOptions& options, int threads,
-                         FinishOptions finish)
-    : impl_(std::make_unique<Impl>(std::move(shape), options, threads, std::move(finish))) {}
+                         FinishOptions finish, SurfaceGenus input_genus)
+    : impl_(std::make_unique<Impl>(std::move(shape), options, threads, std::move(finish),
+                                   std::move(input_genus))) {}
 EditSession::~EditSession() = default;
 
 const Shape& EditSession::shape() const { return impl_->skeletonizer_->shape(); }
