@@ -24,6 +24,7 @@
 
 #include "commands.hpp"
 #include "http_server.hpp"
+#include "run_summary.hpp"
 #include "vmas/edit_session.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
@@ -31,7 +32,6 @@
 #include "vmas/vmas.hpp"
 
 namespace po = boost::program_options;
-using json = nlohmann::json;
 
 namespace vmas::cli {
 
@@ -207,6 +207,16 @@ json preparation_summary(const Result& prepared, int points) {
           {"warnings", warnings}};
 }
 
+// The summaries' `topology` object (the Betti numbers, the input's genus) and what the page marks:
+// the extra loops and the triangles that close cavities, by sphere index (as `edges`, `faces`).
+json topology_message(const EditSnapshot& s) {
+  json topology = topology_summary(s.topology, s.input_genus);
+  topology["extra_loops"] = s.extra_loops;
+  json& cavity_triangles = topology["cavity_triangles"] = json::array();
+  for (int t : s.topology.closing_triangles) cavity_triangles.push_back(s.mesh.faces[t]);
+  return topology;
+}
+
 // Spheres and points go to the page in the input's coordinates (`frame`: the working frame's).
 json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame,
                    const SaveMeasure::Figure& save_measure) {
@@ -243,7 +253,8 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"density_changes", s.density_changes},
                   {"keys", s.keys},
                   {"frozen", s.frozen},
-                  {"spheres", spheres}};
+                  {"spheres", spheres},
+                  {"topology", topology_message(s)}};
   if (sent.version == 0 || s.mesh.edges != sent.edges) message["edges"] = sent.edges = s.mesh.edges;
   if (sent.version == 0 || s.mesh.faces != sent.faces) message["faces"] = sent.faces = s.mesh.faces;
   // Labels travel in the event itself: fetched apart, they would be of another version than the
@@ -530,7 +541,8 @@ int edit_command(int argc, const char* const* argv) {
   const std::vector<std::array<int, 3>> faces = prepared.surface.faces;  // a mesh's: same vertices
   // Finishing an untouched session also runs vmas skeletonize's starts (and keeps the better).
   const FinishOptions finish = finish_as_skeletonize_does(prepared, run_values.options);
-  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads, finish);
+  EditSession session(std::move(prepared.shape), prepared.run, run_values.options.threads, finish,
+                      prepared.result.input_genus);
   const SaveMeasure save_measure(std::move(as_eval_reads), session, frame);
   const std::string shape = shape_bytes(session.shape(), faces, frame);
 

@@ -127,6 +127,12 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   EXPECT_EQ(first["preparation"]["points"].get<std::uint32_t>(), points);
   EXPECT_EQ(first["preparation"]["thinned_from"], 0);
   EXPECT_TRUE(first["preparation"]["warnings"].empty());
+  // A cloud's genus is unknown: no loop is extra.
+  const json& topology = first["topology"];
+  EXPECT_TRUE(topology["input_genus"].is_null()) << topology.dump();
+  EXPECT_EQ(topology["input_genus_unknown"], "a point cloud (no faces)");
+  EXPECT_EQ(topology["b0"], 1);
+  EXPECT_TRUE(topology["extra_loops"].empty());
   const json grown = state_with_spheres(6);
   ASSERT_EQ(grown["spheres"].size(), 6u);
   EXPECT_TRUE(grown.contains("edges"));
@@ -175,6 +181,30 @@ TEST_F(EditServer, EditsOverHttpChangeTheSkeletonAndSaveIt) {
   waitpid(pid_, &status, 0);
   pid_ = -1;
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+
+// Each state carries the medial mesh's Betti numbers, the input's genus, and the triangles that
+// close its cavities (kept here: --keep-cavities) by sphere index, as `faces` lists them.
+TEST_F(EditServer, EachStateCarriesTheTopologyAndTheCavitiesTriangles) {
+  write_surface(path("torus.off"), test::torus(1.0, 0.3, 48, 16));
+  start({path("torus.off"), "--spheres", "100", "--keep-cavities", "--threads", "1"});
+  json faces;
+  const json s = state_when([&](const json& s) {
+    if (s.contains("faces")) faces = s["faces"];
+    return s["spheres"].size() == 100 && s["topology"]["b2"] > 0;
+  });
+  const json& topology = s["topology"];
+  ASSERT_GT(topology["b2"].get<int>(), 0) << topology.dump();
+  EXPECT_EQ(topology["input_genus"], json::array({1}));
+  EXPECT_EQ(topology["cavity_triangles"].size(), topology["b2"].get<std::size_t>());
+  for (const json& triangle : topology["cavity_triangles"])
+    EXPECT_NE(std::find(faces.begin(), faces.end(), triangle), faces.end()) << triangle.dump();
+  // Settled: one piece and one loop, the torus's (none extra).
+  const json one = state_when(
+      [](const json& s) { return s["topology"]["b0"] == 1 && s["topology"]["b1"] == 1; });
+  EXPECT_EQ(one["topology"]["b0"], 1);
+  EXPECT_EQ(one["topology"]["b1"], 1);
+  EXPECT_TRUE(one["topology"]["extra_loops"].empty());
 }
 
 // The page's ε is what vmas eval says of the skeleton a save writes: measured whenever the
