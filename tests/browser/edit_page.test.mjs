@@ -1,6 +1,7 @@
 // Headless browser test of the page of `vmas edit` (apps/edit_page.html), as a person uses it:
 // the page loads and draws without a console or page error, the optimisation reaches its sphere
-// count, a sphere under the mouse is removed with D, a point's cluster is split with S, 20 such
+// count, the topology line gives b0, b1, b2 and the genus (a cloud's unknown) and the page draws
+// an extra loop and a cavity as vmas would send them (T hides them), a sphere under the mouse is removed with D, a point's cluster is split with S, 20 such
 // edits give the latency (printed), a click selects a sphere (labelled) that the remove button
 // removes, a click on a point and the split button split there, shift-clicks and a shift-drag
 // box select spheres that the freeze button freezes in one edit (D leaves frozen spheres),
@@ -9,8 +10,9 @@
 // one in front, a clicked sphere gains an outline and keeps its palette colour (frozen: a dashed
 // one), the medial mesh's faces are a neutral grey (not the selection's colours), a drag of the view draws a big cloud coarser (whole once it stops), the finish button refines and pauses, E shows the error map with its legend and the worst
 // point ringed (still ringed, dashed and labelled behind, where the view is turned so that the
-// model hides it; on a mesh, on an opaque surface: a second vmas), at a 300 000-point cloud (a
-// third vmas) a hover tests a few hundred points and picks what testing all of them picks, W
+// model hides it; on a mesh, on an opaque surface: a second vmas), on a torus mesh with its cavities
+// kept the topology line gives genus 1 and the cavities' triangles are tinted (a third vmas), at a 300 000-point cloud (a
+// fourth vmas) a hover tests a few hundred points and picks what testing all of them picks, W
 // saves (finished) and downloads the PLY of the page's spheres (no -o), the page's ε is `vmas
 // eval`'s of the saved file (run by the test), the .ma button a
 // .ma file, B turns the density brush on (the points coloured by density, a legend, a ring as wide
@@ -249,6 +251,7 @@ async function main() {
 
   pending.push('vmas edit starts and prints the page URL', 'chromium has WebGL',
     'the page loads (three.js, shape, events)', `the optimisation reaches ${SPHERES} spheres`,
+    'the topology line gives b0, b1 and b2 (a cloud: genus unknown); extra loops and cavities are drawn, T hides them',
     'paused, with nothing changing, the page draws no frame; running untouched, at most one per update and four a second',
     'a finish shows its phase, refuses edits meanwhile, and Esc cancels it',
     'D removes the hovered sphere, and no other sphere changes colour',
@@ -269,6 +272,7 @@ async function main() {
     'E shows the legend (colour bar, 0 to the largest distance) and rings the worst point; E hides both',
     'turned so that the model hides the worst point, its ring stays, dashed and labelled behind',
     'on a mesh, E shows the map on an opaque surface',
+    'on a closed mesh the topology line gives its genus, and the triangles that close cavities are tinted',
     'at a big cloud a hover tests the points near the ray only, and picks as testing them all does',
     'W saves the skeleton and downloads it', 'the page\'s ε is vmas eval\'s of the saved skeleton',
     'the .ma button downloads the skeleton as a .ma file',
@@ -373,6 +377,58 @@ async function main() {
     noPageErrors();
     // A figure, not judged (docs/editor.md gives the target).
     return `${status}; the page showed ${(await updatesPerSecond()).toFixed(1)} updates/s meanwhile`;
+  });
+
+  // The topology line and what it says of the page's last update, read at once (an update may
+  // come between two reads): its text, the counts in the warning colour, what is drawn. With
+  // MARKED, of the last update given an extra loop and a cavity as vmas sends them for a closed
+  // mesh (here said to be a sphere).
+  const topologyShown = (onPage, marked = false) => onPage.evaluate((marked) => {
+    if (marked) {
+      const message = { ...last, topology: { ...last.topology, input_genus: [0], input_genus_unknown: '', b2: 1,
+                                             extra_loops: [[0, 1, 2]], cavity_triangles: [[0, 1, 2]] } };
+      for (const once of ['labels', 'label_changes', 'renumber', 'edges', 'faces', 'preparation']) delete message[once];
+      applyState(message);
+      renderer.render(scene, camera);  // drawn now: a shader's error is the page's
+    }
+    return { text: document.getElementById('topology').textContent, topology: last.topology,
+             mismatch: [...document.querySelectorAll('#topology .mismatch')].map((e) => e.id.replace('topology-', '')),
+             loops: loopLines.visible ? loopLines.geometry.attributes.instanceStart.count : 0,
+             cavityCorners: cavityMesh.visible ? cavityMesh.geometry.attributes.position.count : 0 };
+  }, marked);
+  // The counts of the line match the update's; returns [b0, b1, b2].
+  const topologyCounts = ({ text, topology: t }) => {
+    const match = /^b0 (\d+) · b1 (\d+) \(genus ([\d, ]+|unknown)\) · b2 (\d+)/.exec(text);
+    if (!match) fail(`the topology line says '${text}'`);
+    const genus = t.input_genus ? t.input_genus.join(', ') : 'unknown';
+    if (Number(match[1]) !== t.b0 || Number(match[2]) !== t.b1 || match[3] !== genus || Number(match[4]) !== t.b2)
+      fail(`the topology line says '${text}', vmas ${JSON.stringify(t)}`);
+    return [t.b0, t.b1, t.b2];
+  };
+
+  await check('the topology line gives b0, b1 and b2 (a cloud: genus unknown); extra loops and cavities are drawn, T hides them', async () => {
+    const now = await topologyShown(page);
+    topologyCounts(now);
+    if (now.topology.input_genus !== null || now.topology.extra_loops.length || now.loops)
+      fail(`a cloud's genus is unknown and none of its loops is extra: ${JSON.stringify(now)}`);
+    if (now.mismatch.join() !== (now.topology.b2 > 0 ? 'b2' : '')) fail(`in the warning colour: ${now.mismatch.join()}`);
+    const marked = await topologyShown(page, true);
+    const [b0, b1] = topologyCounts(marked);
+    if (marked.loops !== 3 || marked.cavityCorners !== 3) fail(`drawn: ${marked.loops} loop segments (3 expected), ${marked.cavityCorners} cavity corners (3 expected)`);
+    if (!/▬ 1 extra loop {2}▲ 1 cavity$/.test(marked.text)) fail(`the line does not list the marks: '${marked.text}'`);
+    const expected = [b0 !== 1 && 'b0', b1 !== 0 && 'b1', 'b2'].filter(Boolean).join();
+    if (marked.mismatch.join() !== expected) fail(`in the warning colour: ${marked.mismatch.join()}, not ${expected}`);
+    const toggled = async () => {
+      await page.keyboard.press('t');
+      const { loops, cavityCorners } = await topologyShown(page, true);
+      return `${loops} ${cavityCorners} ${await page.getAttribute('#toggle-topology', 'aria-pressed')}`;
+    };
+    const hidden = await toggled(), again = await toggled();
+    if (hidden !== '0 0 false' || again !== '3 3 true') fail(`T: '${hidden}', T again: '${again}' (segments, corners, pressed)`);
+    // The next update of vmas has no mark.
+    await page.waitForFunction(() => !loopLines.visible && !cavityMesh.visible);
+    noPageErrors();
+    return `'${now.text}'; marked: '${marked.text}'`;
   });
 
   await check('paused, with nothing changing, the page draws no frame; running untouched, at most one per update and four a second', async () => {
@@ -1128,6 +1184,46 @@ async function main() {
     }
   });
 
+  await check('on a closed mesh the topology line gives its genus, and the triangles that close cavities are tinted', async () => {
+    // A vmas on the torus mesh at 100 spheres, cavities kept: cluster adjacency closes some.
+    const off = path.join(tmp, 'torus.off');
+    writeTorusMesh(off);
+    const meshVmas = spawn(vmasBinary, ['edit', off, '--spheres', '100', '--keep-cavities', '--threads', '1'],
+                           { stdio: ['ignore', 'pipe', 'pipe'] });
+    const exited = new Promise((resolve) => meshVmas.on('exit', (code, signal) => resolve(signal || code)));
+    const meshPage = await page.context().newPage();
+    meshPage.on('pageerror', (error) => pageErrors.push(`uncaught (mesh page): ${error.message}`));
+    try {
+      const meshUrl = await Promise.race([
+        new Promise((resolve) => readline.createInterface({ input: meshVmas.stdout }).once('line', resolve)),
+        exited.then((how) => fail(`vmas on the mesh exited (${how}) before printing a URL`)),
+        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the mesh after ${WAIT_MS / 1000} s`)), WAIT_MS)),
+      ]);
+      await meshPage.goto(meshUrl, { waitUntil: 'load' });
+      await meshPage.waitForFunction(() => typeof last !== 'undefined' && last && last.spheres.length === 100);
+      // An update of one piece with cavities, read as a whole (the next one may have other counts).
+      const wanted = ({ topology: t }) => t.b0 === 1 && t.b2 > 0;
+      let shown = await topologyShown(meshPage);
+      for (const deadline = Date.now() + WAIT_MS; !wanted(shown) && Date.now() < deadline;) {
+        await meshPage.waitForTimeout(50);
+        shown = await topologyShown(meshPage);
+      }
+      const [, b1, b2] = topologyCounts(shown);
+      if (!wanted(shown)) fail(`no update of one piece with cavities in ${WAIT_MS / 1000} s: '${shown.text}'`);
+      if (shown.topology.input_genus.join() !== '1') fail(`the torus's genus: ${JSON.stringify(shown.topology.input_genus)}`);
+      if (shown.cavityCorners !== 3 * b2) fail(`${shown.cavityCorners / 3} triangles tinted for ${b2} cavities`);
+      if (!shown.text.endsWith(`▲ ${b2} ${b2 === 1 ? 'cavity' : 'cavities'}`)) fail(`the line does not list the cavities: '${shown.text}'`);
+      const expected = [b1 !== 1 && 'b1', 'b2'].filter(Boolean).join();
+      if (shown.mismatch.join() !== expected) fail(`in the warning colour: ${shown.mismatch.join()}, not ${expected}`);
+      noPageErrors();
+      return `'${shown.text}'`;
+    } finally {
+      await meshPage.close();
+      meshVmas.kill('SIGINT');
+      await exited;
+    }
+  });
+
   await check('at a big cloud a hover tests the points near the ray only, and picks as testing them all does', async () => {
     // A second vmas on a 300 000-point torus (thinned to about 100 000), and a page of its own.
     const big = path.join(tmp, 'big_torus.xyz');
@@ -1150,14 +1246,15 @@ async function main() {
       await bigPage.keyboard.press(' ');
       await bigPage.waitForFunction(() => last.paused, null, { timeout: WAIT_MS });
       await bigPage.keyboard.press('h');
-      // Where some of the points are on the screen, and a corner with none.
+      // Where some of the points are on the screen, and a corner with none; off the panel, and
+      // the lines it may gain below (the status wraps once ε is shown).
       const spots = await bigPage.evaluate(() => {
         const n = state.labels.length, p = new THREE.Vector3(), list = [];
         const panel = document.getElementById('panel').getBoundingClientRect();
         for (let k = 1; k <= 24; ++k) {
           p.fromArray(state.points, 3 * Math.floor(k * n / 25)).project(camera);
           const [x, y] = [(p.x + 1) / 2 * innerWidth, (1 - p.y) / 2 * innerHeight];
-          if (x > 10 && x < innerWidth - 10 && y > 10 && y < innerHeight - 10 && !(x < panel.right + 10 && y < panel.bottom + 10))
+          if (x > 10 && x < innerWidth - 10 && y > 10 && y < innerHeight - 10 && !(x < panel.right + 10 && y < panel.bottom + 60))
             list.push([Math.round(x), Math.round(y)]);
         }
         return [...list.slice(0, 6), [innerWidth - 5, innerHeight - 5]];
