@@ -5,6 +5,7 @@
 // public headers take and return these.
 #include <array>
 #include <cstddef>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -333,6 +334,8 @@ struct SurfaceGenus {
   bool known = false;
   std::vector<int> genus;  // per piece
   std::string why;         // when not known
+  // Handles of all pieces: the loops of their medial axis (0 when not known).
+  int handles() const { return std::accumulate(genus.begin(), genus.end(), 0); }
 };
 
 // ---- A whole run (vmas::skeletonize) ----

@@ -6,11 +6,11 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
-#include <numeric>
 #include <string>
 #include <thread>
 
 #include "eval/envelope.hpp"
+#include "optimise/partition.hpp"
 #include "optimise/topology.hpp"
 #include "vmas/error.hpp"
 
@@ -33,9 +33,6 @@ constexpr auto kMeasureInterval = std::chrono::seconds(2);
 
 // Whether two meshes are the same to the bit (the topology of one is that of the other).
 bool same_mesh(const MedialMesh& a, const MedialMesh& b) {
-  const auto same_sphere = [](const Sphere& x, const Sphere& y) {
-    return x.center == y.center && x.radius == y.radius;
-  };
   return a.edges == b.edges && a.faces == b.faces &&
          std::equal(a.spheres.begin(), a.spheres.end(), b.spheres.begin(), b.spheres.end(),
                     same_sphere);
@@ -568,10 +565,8 @@ void EditSession::Impl::update_topology(const MedialMesh& mesh) {
   if (same_mesh(mesh, topology_mesh_)) return;
   topology_ = medial_topology(mesh);
   extra_loops_.clear();
-  if (input_genus_.known) {
-    const int genus = std::accumulate(input_genus_.genus.begin(), input_genus_.genus.end(), 0);
-    if (topology_.loops > genus) extra_loops_ = extra_loops(mesh, genus);
-  }
+  if (input_genus_.known && topology_.loops > input_genus_.handles())
+    extra_loops_ = extra_loops(mesh, input_genus_.handles());
   topology_mesh_ = mesh;
 }
 

@@ -417,8 +417,10 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   // Every triangle until skeletonize() ends: the choice of a start and the check of the
   // smoothing measure what the refinement measured.
   result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
-  // What open_missing_loops may take out (only a closed mesh's genus is known).
-  if (result.input_genus.known)
+  // What open_missing_loops may take out, where a loop is missing (only a closed mesh's genus is
+  // known); without_cavities keeps the loops, so this mesh's count is the written one's.
+  if (result.input_genus.known &&
+      medial_topology(result.medial_mesh).loops < result.input_genus.handles())
     pass.meeting_nowhere =
         triangles_meeting_nowhere(skeletonizer.shape(), skeletonizer.labels(), result.medial_mesh);
   result.skeleton_components = component_count(result.medial_mesh);
@@ -754,8 +756,7 @@ Result skeletonize(SurfaceInput input, const Options& options, const ProgressCal
   Result result = std::move(pass.result);
   if (options.run.open_cavities) result.medial_mesh = without_cavities(std::move(result.medial_mesh));
   if (options.loops_to_genus && result.input_genus.known) {
-    const std::vector<int>& genus = result.input_genus.genus;
-    const int loops = std::accumulate(genus.begin(), genus.end(), 0);
+    const int loops = result.input_genus.handles();
     result.medial_mesh = open_missing_loops(std::move(result.medial_mesh), loops,
                                             pass.meeting_nowhere, &result.loops_opened);
     result.medial_mesh =

@@ -128,6 +128,29 @@ function plySpheres(file) {
   return spheres;
 }
 
+// A second `vmas edit` on `input` with `args` and a page of its own on it (`name` says which in
+// messages); `body(page)` runs once the page has loaded, then the page and vmas are closed.
+async function withSecondEditor(context, input, args, name, body, viewport = null) {
+  const other = spawn(vmasBinary, ['edit', input, ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
+  const exited = new Promise((resolve) => other.on('exit', (code, signal) => resolve(signal || code)));
+  const otherPage = await context.newPage();
+  if (viewport) await otherPage.setViewportSize(viewport);
+  otherPage.on('pageerror', (error) => pageErrors.push(`uncaught (page on ${name}): ${error.message}`));
+  try {
+    const url = await Promise.race([
+      new Promise((resolve) => readline.createInterface({ input: other.stdout }).once('line', resolve)),
+      exited.then((how) => fail(`vmas on ${name} exited (${how}) before printing a URL`)),
+      new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on ${name} after ${WAIT_MS / 1000} s`)), WAIT_MS)),
+    ]);
+    await otherPage.goto(url, { waitUntil: 'load' });
+    return await body(otherPage);
+  } finally {
+    await otherPage.close();
+    other.kill('SIGINT');
+    await exited;
+  }
+}
+
 // --- the run --------------------------------------------------------------------------------
 let vmas = null, browser = null, vmasExit = null;
 const vmasStderr = [];
@@ -1151,17 +1174,7 @@ async function main() {
     // A second vmas, on a torus mesh, and a page of its own.
     const off = path.join(tmp, 'torus.off');
     writeTorusMesh(off);
-    const meshVmas = spawn(vmasBinary, ['edit', off, '--spheres', '8', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
-    const exited = new Promise((resolve) => meshVmas.on('exit', (code, signal) => resolve(signal || code)));
-    const meshPage = await page.context().newPage();
-    meshPage.on('pageerror', (error) => pageErrors.push(`uncaught (mesh page): ${error.message}`));
-    try {
-      const meshUrl = await Promise.race([
-        new Promise((resolve) => readline.createInterface({ input: meshVmas.stdout }).once('line', resolve)),
-        exited.then((how) => fail(`vmas on the mesh exited (${how}) before printing a URL`)),
-        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the mesh after ${WAIT_MS / 1000} s`)), WAIT_MS)),
-      ]);
-      await meshPage.goto(meshUrl, { waitUntil: 'load' });
+    return await withSecondEditor(page.context(), off, ['--spheres', '8', '--threads', '1'], 'the mesh', async (meshPage) => {
       await meshPage.waitForFunction(() => typeof last !== 'undefined' && last && surfaceMesh);
       const surface = () => meshPage.evaluate(() => {
         const m = surfaceMesh.material;
@@ -1177,29 +1190,14 @@ async function main() {
       if (after !== before) fail(`after a second E the surface is ${after}, before the map ${before}`);
       noPageErrors();
       return `the surface with the map: ${map}; without: ${after}`;
-    } finally {
-      await meshPage.close();
-      meshVmas.kill('SIGINT');
-      await exited;
-    }
+    });
   });
 
   await check('on a closed mesh the topology line gives its genus, and the triangles that close cavities are tinted', async () => {
     // A vmas on the torus mesh at 100 spheres, cavities kept: cluster adjacency closes some.
     const off = path.join(tmp, 'torus.off');
     writeTorusMesh(off);
-    const meshVmas = spawn(vmasBinary, ['edit', off, '--spheres', '100', '--keep-cavities', '--threads', '1'],
-                           { stdio: ['ignore', 'pipe', 'pipe'] });
-    const exited = new Promise((resolve) => meshVmas.on('exit', (code, signal) => resolve(signal || code)));
-    const meshPage = await page.context().newPage();
-    meshPage.on('pageerror', (error) => pageErrors.push(`uncaught (mesh page): ${error.message}`));
-    try {
-      const meshUrl = await Promise.race([
-        new Promise((resolve) => readline.createInterface({ input: meshVmas.stdout }).once('line', resolve)),
-        exited.then((how) => fail(`vmas on the mesh exited (${how}) before printing a URL`)),
-        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the mesh after ${WAIT_MS / 1000} s`)), WAIT_MS)),
-      ]);
-      await meshPage.goto(meshUrl, { waitUntil: 'load' });
+    return await withSecondEditor(page.context(), off, ['--spheres', '100', '--keep-cavities', '--threads', '1'], 'the mesh', async (meshPage) => {
       await meshPage.waitForFunction(() => typeof last !== 'undefined' && last && last.spheres.length === 100);
       // An update of one piece with cavities, read as a whole (the next one may have other counts).
       const wanted = ({ topology: t }) => t.b0 === 1 && t.b2 > 0;
@@ -1217,29 +1215,14 @@ async function main() {
       if (shown.mismatch.join() !== expected) fail(`in the warning colour: ${shown.mismatch.join()}, not ${expected}`);
       noPageErrors();
       return `'${shown.text}'`;
-    } finally {
-      await meshPage.close();
-      meshVmas.kill('SIGINT');
-      await exited;
-    }
+    });
   });
 
   await check('at a big cloud a hover tests the points near the ray only, and picks as testing them all does', async () => {
     // A second vmas on a 300 000-point torus (thinned to about 100 000), and a page of its own.
     const big = path.join(tmp, 'big_torus.xyz');
     writeTorus(big, 300_000);
-    const bigVmas = spawn(vmasBinary, ['edit', big, '--spheres', '8', '--threads', '1'], { stdio: ['ignore', 'pipe', 'pipe'] });
-    const exited = new Promise((resolve) => bigVmas.on('exit', (code, signal) => resolve(signal || code)));
-    const bigPage = await page.context().newPage();
-    await bigPage.setViewportSize(VIEWPORT);
-    bigPage.on('pageerror', (error) => pageErrors.push(`uncaught (big page): ${error.message}`));
-    try {
-      const bigUrl = await Promise.race([
-        new Promise((resolve) => readline.createInterface({ input: bigVmas.stdout }).once('line', resolve)),
-        exited.then((how) => fail(`vmas on the big cloud exited (${how}) before printing a URL`)),
-        new Promise((_, reject) => setTimeout(() => reject(new Error(`no URL from vmas on the big cloud after ${WAIT_MS / 1000} s`)), WAIT_MS)),
-      ]);
-      await bigPage.goto(bigUrl, { waitUntil: 'load' });
+    return await withSecondEditor(page.context(), big, ['--spheres', '8', '--threads', '1'], 'the big cloud', async (bigPage) => {
       await bigPage.waitForFunction(() => typeof last !== 'undefined' && last && state.labels.some((l) => l >= 0),
                                     null, { timeout: WAIT_MS });
       // Paused, the spheres hidden: what is hovered is the picked point's sphere, labels still.
@@ -1284,11 +1267,7 @@ async function main() {
       if (hits < 3) fail(`only ${hits} of ${spots.length} positions over the cloud hit a point`);
       noPageErrors();
       return `${hits} hovers on points as testing all ${all} would pick, at most ${most} tested`;
-    } finally {
-      await bigPage.close();
-      bigVmas.kill('SIGINT');
-      await exited;
-    }
+    }, VIEWPORT);
   });
 
   await check('W saves the skeleton and downloads it', async () => {
