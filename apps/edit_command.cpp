@@ -207,16 +207,6 @@ json preparation_summary(const Result& prepared, int points) {
           {"warnings", warnings}};
 }
 
-// The summaries' `topology` object (the Betti numbers, the input's genus) and what the page marks:
-// the extra loops and the triangles that close cavities, by sphere index (as `edges`, `faces`).
-json topology_message(const EditSnapshot& s) {
-  json topology = topology_summary(s.topology, s.input_genus);
-  topology["extra_loops"] = s.extra_loops;
-  json& cavity_triangles = topology["cavity_triangles"] = json::array();
-  for (int t : s.topology.closing_triangles) cavity_triangles.push_back(s.mesh.faces[t]);
-  return topology;
-}
-
 // Spheres and points go to the page in the input's coordinates (`frame`: the working frame's).
 json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, const Frame& frame,
                    const SaveMeasure::Figure& save_measure) {
@@ -254,7 +244,7 @@ json state_message(const EditSnapshot& s, Sent& sent, const json& preparation, c
                   {"keys", s.keys},
                   {"frozen", s.frozen},
                   {"spheres", spheres},
-                  {"topology", topology_message(s)}};
+                  {"topology", edit_topology_summary(s)}};
   if (sent.version == 0 || s.mesh.edges != sent.edges) message["edges"] = sent.edges = s.mesh.edges;
   if (sent.version == 0 || s.mesh.faces != sent.faces) message["faces"] = sent.faces = s.mesh.faces;
   // Labels travel in the event itself: fetched apart, they would be of another version than the

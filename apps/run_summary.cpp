@@ -74,6 +74,14 @@ std::string topology_line(const json& topology) {
   return line;
 }
 
+json edit_topology_summary(const EditSnapshot& snapshot) {
+  json topology = topology_summary(snapshot.topology, snapshot.input_genus);
+  topology["extra_loops"] = snapshot.extra_loops;
+  json& cavity_triangles = topology["cavity_triangles"] = json::array();
+  for (int t : snapshot.topology.closing_triangles) cavity_triangles.push_back(snapshot.mesh.faces[t]);
+  return topology;
+}
+
 // The `noise` object: what was measured, and the smoothing and its check.
 json noise_summary(const PrepareReport& prepared, const SmoothingCheck& check) {
   return {{"measured", prepared.noise.sigma > 0.0 || prepared.noise.spacing > 0.0},

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "vmas/edit_session.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/vmas.hpp"
 
@@ -46,5 +47,9 @@ json topology_summary(const MedialTopology& medial, const SurfaceGenus& input);
 // The summaries' line of it: "topology: the skeleton has 1 piece, 3 loops, 0 cavities; the
 // shape: 1 piece of genus 3" (or "genus unknown (why)").
 std::string topology_line(const json& topology);
+// An edit session's `topology` object (`vmas edit`'s state event, Python's EditSession.snapshot):
+// topology_summary, and what the page marks: the loops beyond the input's genus and the triangles
+// that close cavities, by sphere index into the snapshot's mesh.
+json edit_topology_summary(const EditSnapshot& snapshot);
 
 }  // namespace vmas::cli

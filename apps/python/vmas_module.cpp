@@ -608,7 +608,8 @@ class PythonEditSession {
     PreparedShape prepared = prepared_for_python(std::move(surface), options, map_);
     FinishOptions finish = finish_as_skeletonize_does(prepared, options);
     session_ = std::make_unique<EditSession>(std::move(prepared.shape), prepared.run,
-                                             options.threads, std::move(finish));
+                                             options.threads, std::move(finish),
+                                             std::move(prepared.result.input_genus));
   }
   EditSession& session() {
     if (!session_) throw InvalidArgument("the session is closed");
@@ -951,6 +952,8 @@ void def_edit_session_control(py::class_<PythonEditSession>& edit_session) {
             d["finish_phase"] = snap.finish_phase;
             d["finish_fraction"] = snap.finish_fraction;
             d["measured_error"] = snap.measured_error;
+            d["topology"] = py::module_::import("json").attr("loads")(
+                cli::edit_topology_summary(snap).dump());
             if (snap.density) {
               const std::vector<double> density = e.map().rows().by_row(*snap.density);
               d["density"] = py::array_t<double>(static_cast<py::ssize_t>(density.size()),
@@ -962,8 +965,9 @@ void def_edit_session_control(py::class_<PythonEditSession>& edit_session) {
           },
           "The state now (dict): version, iteration, error, paused, target_spheres, keys, "
           "frozen, medial_mesh (input's coordinates), labels (by input row), finished, "
-          "finishing, finish_phase, finish_fraction (of that phase), measured_error, density "
-          "(by input row, or None: uniform).")
+          "finishing, finish_phase, finish_fraction (of that phase), measured_error, topology "
+          "(as `vmas edit`'s: input_genus, b0, b1, b2, duplicate_triangles, extra_loops and "
+          "cavity_triangles by sphere index), density (by input row, or None: uniform).")
       .def("close", &PyEdit::close, "Stops the worker; later calls raise vmas.InvalidArgument.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyEdit& e, py::args) { e.close(); });

@@ -580,3 +580,36 @@ def test_an_edit_session_paints_sets_and_reports_the_density_by_input_row():
             session.set_density([1.0, 2.0])
         with pytest.raises(vmas.InvalidOption, match="radius"):
             session.paint_density(0, 0.0, 1.0)
+
+
+def torus_mesh(rings=48, sides=24, major=1.0, minor=0.35):
+    """A closed triangle mesh of a torus (genus 1): its vertices and faces."""
+    u, v = np.meshgrid(np.arange(rings) * 2 * np.pi / rings, np.arange(sides) * 2 * np.pi / sides,
+                       indexing="ij")
+    ring = major + minor * np.cos(v)
+    vertices = np.stack([ring * np.cos(u), ring * np.sin(u), minor * np.sin(v)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(rings), np.arange(sides), indexing="ij")
+    a, b = i * sides + j, ((i + 1) % rings) * sides + j
+    c, d = ((i + 1) % rings) * sides + (j + 1) % sides, i * sides + (j + 1) % sides
+    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
+                            np.stack([a, c, d], -1).reshape(-1, 3)])
+    return vertices, faces
+
+
+def test_an_edit_session_reports_the_topology_against_the_meshs_genus():
+    vertices, faces = torus_mesh()
+    with vmas.EditSession(vertices, faces=faces, spheres=16, threads=1) as session:
+        session.finish()
+        deadline = time.monotonic() + 120.0
+        while not (snap := session.snapshot())["finished"] and time.monotonic() < deadline:
+            session.wait(snap["version"], timeout=1.0)
+        topology = session.snapshot()["topology"]
+    assert snap["finished"]
+    assert topology["input_genus"] == [1] and topology["input_genus_unknown"] == ""
+    # finish() brings the loops to the genus and removes the triangles closing cavities
+    assert (topology["b0"], topology["b1"], topology["b2"]) == (1, 1, 0)
+    assert topology["extra_loops"] == [] and topology["cavity_triangles"] == []
+    with vmas.EditSession(sphere_points(2000), spheres=8, threads=1) as session:
+        session.wait(0, timeout=10.0)
+        cloud = session.snapshot()["topology"]
+    assert cloud["input_genus"] is None and cloud["input_genus_unknown"] == "a point cloud (no faces)"
