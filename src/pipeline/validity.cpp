@@ -29,6 +29,23 @@ InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialP
   return invalid;
 }
 
+std::vector<std::array<int, 3>> where_tunnels_fit(std::vector<std::array<int, 3>> triangles,
+                                                  const std::vector<Sphere>& spheres,
+                                                  const MedialProjector& projector,
+                                                  const Evaluator& evaluator, double depth) {
+  std::vector<Vec3> centroids;
+  centroids.reserve(triangles.size());
+  for (const auto& [a, b, c] : triangles)
+    centroids.push_back((spheres[a].center + spheres[b].center + spheres[c].center) / 3.0);
+  const std::vector<double> distance = evaluator.distances_to_shape(centroids);
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    if (distance[t] <= depth || projector.winding_number(centroids[t]) <= kInside)
+      triangles[kept++] = triangles[t];
+  triangles.resize(kept);
+  return triangles;
+}
+
 std::size_t turn_inside_out_normals(SurfaceInput& surface, PrepareReport& report,
                                     const Shape& shape) {
   if (surface.is_mesh() || !report.smoothed() || !report.normals_estimated ||

@@ -4,6 +4,7 @@
 // where it converges; where it stops early (a ball's budget of steps, a centre pulled out by a
 // refit) a sphere can sit outside or reach through the surface, and a user should hear of it.
 // And the same winding number's say on a smoothed cloud's estimated normals.
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -19,6 +20,15 @@ namespace vmas {
 // `checked` is set; the caller decides whether the input is closed.
 InvalidSpheres invalid_spheres(const std::vector<Sphere>& spheres, const MedialProjector& projector,
                                const Evaluator& evaluator, double diagonal);
+
+// Of `triangles` (sphere indices into `spheres`, frame as above), those whose removal can open a
+// tunnel where the solid has one: the centroid of their centres lies outside the closed input,
+// or at most `depth` inside it. Through solid, the tunnel's wall would lie as deep as that
+// centroid, and the reconstruction's surface so far from the shape's.
+std::vector<std::array<int, 3>> where_tunnels_fit(std::vector<std::array<int, 3>> triangles,
+                                                  const std::vector<Sphere>& spheres,
+                                                  const MedialProjector& projector,
+                                                  const Evaluator& evaluator, double depth);
 
 // The orientation of a smoothed cloud's estimated normals turns over only large regions (its
 // tree and its views); the small patches it leaves inside out, where noise near thin parts

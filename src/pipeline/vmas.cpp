@@ -418,11 +418,13 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   // smoothing measure what the refinement measured.
   result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
   // What open_missing_loops may take out, where a loop is missing (only a closed mesh's genus is
-  // known); without_cavities keeps the loops, so this mesh's count is the written one's.
+  // known); without_cavities keeps the loops, so this mesh's count is the written one's. A tunnel
+  // through solid deeper than the skeleton's measured error would raise that error.
   if (result.input_genus.known &&
       medial_topology(result.medial_mesh).loops < result.input_genus.handles())
-    pass.meeting_nowhere =
-        triangles_meeting_nowhere(skeletonizer.shape(), skeletonizer.labels(), result.medial_mesh);
+    pass.meeting_nowhere = where_tunnels_fit(
+        triangles_meeting_nowhere(skeletonizer.shape(), skeletonizer.labels(), result.medial_mesh),
+        skeletonizer.spheres(), skeletonizer.projector(), *measurer, finish.error);
   result.skeleton_components = component_count(result.medial_mesh);
   result.seconds.connectivity = seconds_since(connectivity_start);
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
