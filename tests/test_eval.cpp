@@ -753,5 +753,22 @@ TEST(Openings, ReachPastTheRimPlaneOfACutBall) {
   EXPECT_EQ(of_mesh.reach, 0.0);
 }
 
+// Lid points close an opening for the medial -> surface side only: a point above the opening's
+// centre is as far as the lid, not as the rim; the surface side still measures from the cloud.
+TEST(Evaluator, LidPointsCountOnlyForTheMedialSide) {
+  SurfaceInput cloud;
+  for (int i = 0; i < 400; ++i) {
+    const double angle = 2.0 * M_PI * i / 400.0;
+    for (double z : {0.0, 0.1, 0.2}) cloud.points.push_back(Vec3(std::cos(angle), std::sin(angle), z));
+  }
+  EvalOptions options;
+  const Evaluator open(cloud, options);
+  options.lid_points = {Vec3(0.0, 0.0, 0.2)};
+  const Evaluator closed(cloud, options);
+  const std::vector<Vec3> above = {Vec3(0.0, 0.0, 0.3)};
+  EXPECT_NEAR(open.distances_to_shape(above).front(), std::hypot(1.0, 0.1), 1e-9);
+  EXPECT_NEAR(closed.distances_to_shape(above).front(), 0.1, 1e-9);
+}
+
 }  // namespace
 }  // namespace vmas

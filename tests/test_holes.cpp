@@ -1,6 +1,9 @@
 // Holes of sampled surfaces (find_holes) on shapes built in code, fixed seeds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "prepare/holes.hpp"
 #include "prepare/prepare.hpp"
 #include "test_shapes.hpp"
@@ -44,6 +47,46 @@ TEST(Holes, ACapCutOffIsOneHoleAsWideAsTheCut) {
     EXPECT_NEAR(holes.front().width, 1.2 * std::sqrt(2.0), 0.25) << count;
     EXPECT_GE(holes.front().rim.size(), 20u) << count;
   }
+}
+
+// The lid of a cut sphere's opening lies across the cut (z = 0.8, within the circle of radius 0.6),
+// its plane facing away from the points, and the rim's tilt carries over to it.
+TEST(Holes, ALidClosesTheOpeningAcrossItsRim) {
+  const Sample open = cut_below(test::sample_sphere(Vec3::Zero(), 1.0, 30000, 15), 0.8);
+  const std::vector<Hole> holes = find_holes(open.points, open.normals);
+  ASSERT_GE(holes.size(), 1u);
+  std::vector<Vec3> rim;
+  for (int p : holes.front().rim) rim.push_back(open.points[p]);
+  const RimPlane plane = rim_plane(rim, open.points);
+  EXPECT_GT(plane.outward.z(), 0.99);
+  // The rim is the band of points next to the cut, down to a neighbourhood's reach below it.
+  EXPECT_GT(plane.radius, 0.58);
+  EXPECT_LT(plane.radius, 0.7);
+  const std::vector<Vec3> lid = lid_points(rim, plane, 0.02);
+  // A disc of the rim's radius in each sector, at most the largest: between the cut's circle
+  // (radius 0.6) and the disc of the largest radius.
+  EXPECT_GT(static_cast<double>(lid.size()), M_PI * 0.6 * 0.6 / (0.02 * 0.02));
+  EXPECT_LT(static_cast<double>(lid.size()), M_PI * plane.radius * plane.radius / (0.02 * 0.02));
+  double farthest = 0.0, highest_flat = -1.0;
+  for (const Vec3& p : lid) {
+    EXPECT_GT(p.z(), 0.72);
+    EXPECT_LT(p.z(), 0.81);
+    farthest = std::max(farthest, std::hypot(p.x(), p.y()));
+    highest_flat = std::max(highest_flat, p.z());
+  }
+  EXPECT_NEAR(farthest, plane.radius, 0.03);
+  // A rim raised on one side (by up to 0.033 at x = 0.66): the lid rises with it there only.
+  std::vector<Vec3> tilted = rim;
+  for (Vec3& p : tilted)
+    if (p.x() > 0.0) p.z() += 0.05 * p.x();
+  double highest = -1.0, highest_left = -1.0;
+  for (const Vec3& p : lid_points(tilted, plane, 0.02)) {
+    highest = std::max(highest, p.z());
+    if (p.x() < -0.1) highest_left = std::max(highest_left, p.z());
+  }
+  EXPECT_NEAR(highest - highest_flat, 0.03, 0.01);
+  EXPECT_LE(highest_left, highest_flat + 1e-9);
+  EXPECT_TRUE(lid_points({}, plane, 0.02).empty());
 }
 
 // A cut across a thin tube (a handle, a vessel's ornament) sampled a few points around: its rim's

@@ -200,7 +200,7 @@ void EvalOptions::validate() const {
 // exported with it, unlike the internal stages it holds).
 struct Evaluator::Impl {
   Impl(const SurfaceInput& shape, const EvalOptions& options)
-      : options(options), shape(shape), distance(shape, options.cloud_as_discs) {}
+      : options(options), shape(shape), distance(shape, options.cloud_as_discs, options.lid_points) {}
 
   // Surface -> medial distance of every sample: exact where it is `below` or more, and under
   // `below` elsewhere (an upper bound of it, which is all the maximum needs when it is `below` or

@@ -1,43 +1,13 @@
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
+#include "prepare/holes.hpp"
 #include "prepare/prepare.hpp"
 #include "vmas/error.hpp"
 #include "vmas/eval.hpp"
 #include "vmas/io.hpp"
 
 namespace vmas {
-
-namespace {
-
-// The plane of an opening's rim (input coordinates): its centre, its unit normal towards the
-// outside, and the rim's largest distance from the centre within the plane.
-struct RimPlane {
-  Vec3 centre = Vec3::Zero();
-  Vec3 outward = Vec3::UnitZ();
-  double radius = 0.0;
-};
-
-RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud) {
-  RimPlane plane;
-  for (const Vec3& p : rim) plane.centre += p;
-  plane.centre /= static_cast<double>(rim.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : rim) scatter += (p - plane.centre) * (p - plane.centre).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(scatter);
-  const Vec3 normal = axes.eigenvectors().col(0);  // the smallest spread: across the rim
-  std::ptrdiff_t ahead = 0;
-  for (const Vec3& p : cloud) ahead += (p - plane.centre).dot(normal) > 0.0 ? 1 : -1;
-  plane.outward = ahead > 0 ? Vec3(-normal) : normal;
-  for (const Vec3& p : rim) {
-    const Vec3 offset = p - plane.centre;
-    plane.radius = std::max(plane.radius, (offset - offset.dot(normal) * normal).norm());
-  }
-  return plane;
-}
-
-}  // namespace
 
 OpeningReach opening_reach(const SurfaceInput& cloud, const EvalResult& evaluated) {
   OpeningReach result;

@@ -60,7 +60,10 @@ constexpr int kDiscNeighbours = 8;
 
 }  // namespace
 
-ShapeDistance::ShapeDistance(const SurfaceInput& shape, bool discs) : shape_(shape) {
+ShapeDistance::ShapeDistance(const SurfaceInput& shape, bool discs,
+                             const std::vector<Vec3>& lid_points)
+    : shape_(shape) {
+  if (!lid_points.empty()) lid_points_.emplace(lid_points);
   if (!shape.is_mesh()) {
     points_.emplace(shape.points);
     const bool normals = shape.normals.size() == shape.points.size();
@@ -101,6 +104,14 @@ std::vector<double> ShapeDistance::operator()(const std::vector<Vec3>& queries,
 }
 
 double ShapeDistance::distance(const Vec3& q, double stop_below, int& near_face) const {
+  const double to_input = input_distance(q, stop_below, near_face);
+  if (!lid_points_) return to_input;
+  double squared = 0.0;
+  lid_points_->nearest(q, &squared);
+  return std::min(to_input, std::sqrt(squared));
+}
+
+double ShapeDistance::input_distance(const Vec3& q, double stop_below, int& near_face) const {
   if (!disc_radius_.empty()) return disc_distance(q);
   if (points_) {
     double squared = 0.0;

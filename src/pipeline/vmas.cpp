@@ -23,6 +23,7 @@
 #include "optimise/connectivity.hpp"
 #include "optimise/topology.hpp"
 #include "pipeline/validity.hpp"
+#include "prepare/holes.hpp"
 #include "prepare/normals.hpp"
 #include "prepare/prepare.hpp"
 #include "refine/refine.hpp"
@@ -286,9 +287,17 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   const PrepareReport& report = prepared.result.prepare;
   EvalOptions measure = refinement_eval_options(report.smoothed());
+  const std::vector<Vec3>& points = prepared.surface.points;
   if (prepared.surface.is_mesh())
     measure.max_input_points =
         smoothed_points_needed(prepared.surface, report, spheres_at_most(prepared.run));
+  // An open scan is measured against what a solid can do: its openings closed by lids.
+  for (const Hole& hole : report.holes) {
+    std::vector<Vec3> rim;
+    for (int p : hole.rim) rim.push_back(points[p]);
+    const std::vector<Vec3> lid = lid_points(rim, rim_plane(rim, points), report.noise.spacing);
+    measure.lid_points.insert(measure.lid_points.end(), lid.begin(), lid.end());
+  }
   return measure;
 }
 

@@ -1,5 +1,6 @@
 #include "prepare/holes.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -37,6 +38,9 @@ constexpr double kMinHoleWidth = 3.0;
 // neighbourhood's reach.
 constexpr int kRimLinks = 4;
 constexpr double kRimLinkReach = 1.5;
+// A lid's outline: the rim's farthest point in each sector around its centre.
+constexpr int kLidSectors = 64;
+constexpr double kMaxLidPoints = 20000.0;
 
 // Whether `p` (normal `n`) sees its neighbours `around` on one side only.
 bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, int p,
@@ -118,6 +122,68 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
     return a.width != b.width ? a.width > b.width : a.rim < b.rim;
   });
   return holes;
+}
+
+RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud) {
+  RimPlane plane;
+  for (const Vec3& p : rim) plane.centre += p;
+  plane.centre /= static_cast<double>(rim.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : rim) scatter += (p - plane.centre) * (p - plane.centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(scatter);
+  const Vec3 normal = axes.eigenvectors().col(0);  // the smallest spread: across the rim
+  std::ptrdiff_t ahead = 0;
+  for (const Vec3& p : cloud) ahead += (p - plane.centre).dot(normal) > 0.0 ? 1 : -1;
+  plane.outward = ahead > 0 ? Vec3(-normal) : normal;
+  for (const Vec3& p : rim) {
+    const Vec3 offset = p - plane.centre;
+    plane.radius = std::max(plane.radius, (offset - offset.dot(normal) * normal).norm());
+  }
+  return plane;
+}
+
+std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing) {
+  if (rim.empty() || !(plane.radius > 0.0)) return {};
+  const Vec3 u = plane.outward.unitOrthogonal(), v = plane.outward.cross(u);
+  const auto sector_of = [&](double x, double y) {
+    const double turn = (std::atan2(y, x) + M_PI) / (2.0 * M_PI);
+    return std::min(kLidSectors - 1, static_cast<int>(turn * kLidSectors));
+  };
+  std::vector<double> reach(kLidSectors, -1.0), height(kLidSectors, 0.0);
+  for (const Vec3& p : rim) {
+    const Vec3 offset = p - plane.centre;
+    const int sector = sector_of(offset.dot(u), offset.dot(v));
+    const double r = std::hypot(offset.dot(u), offset.dot(v));
+    if (r <= reach[sector]) continue;
+    reach[sector] = r;
+    height[sector] = offset.dot(plane.outward);
+  }
+  // A sector without rim points takes the nearer reach of the nearest sectors that have some.
+  std::vector<double> filled = reach, lifted = height;
+  for (int s = 0; s < kLidSectors; ++s) {
+    if (reach[s] >= 0.0) continue;
+    for (int step = 1; step < kLidSectors && filled[s] < 0.0; ++step) {
+      const int before = (s - step + kLidSectors) % kLidSectors, after = (s + step) % kLidSectors;
+      if (reach[before] < 0.0 && reach[after] < 0.0) continue;
+      const int nearer = reach[after] < 0.0 || (reach[before] >= 0.0 && reach[before] < reach[after])
+                             ? before : after;
+      filled[s] = reach[nearer];
+      lifted[s] = height[nearer];
+    }
+  }
+  const double step = std::max(spacing, plane.radius * std::sqrt(M_PI / kMaxLidPoints));
+  const int steps = static_cast<int>(std::ceil(plane.radius / step));
+  std::vector<Vec3> lid;
+  for (int i = -steps; i <= steps; ++i)
+    for (int j = -steps; j <= steps; ++j) {
+      const double x = i * step, y = j * step;
+      const int sector = sector_of(x, y);
+      const double r = std::hypot(x, y);
+      if (r <= filled[sector])
+        lid.push_back(plane.centre + x * u + y * v +
+                             (r / filled[sector]) * lifted[sector] * plane.outward);
+    }
+  return lid;
 }
 
 }  // namespace vmas

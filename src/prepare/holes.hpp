@@ -18,4 +18,19 @@ namespace vmas {
 std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                              bool smoothed = false);
 
+// The plane of a hole's rim: its centre, its unit normal towards the outside of `cloud` (the side
+// fewer of its points lie on), and the rim's largest distance from the centre within the plane.
+struct RimPlane {
+  Vec3 centre = Vec3::Zero();
+  Vec3 outward = Vec3::UnitZ();
+  double radius = 0.0;
+};
+RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud);
+
+// Points that close a hole as a solid closes it: a lid over its rim, an even grid `spacing` apart
+// on the rim's plane (coarser when more than 20 000 would be needed) out to the rim as seen from
+// the centre (the farthest rim point in each of 64 sectors around it), lifted off the plane as a
+// cone from the centre to that point, so that the lid meets a rim that is not flat.
+std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing);
+
 }  // namespace vmas

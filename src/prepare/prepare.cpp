@@ -141,6 +141,11 @@ namespace {
 void keep_cells(const Subsample& thin, SurfaceInput& surface, PrepareReport& report) {
   for (int& p : report.stand_in)
     if (p >= 0) p = thin.representative[p];
+  for (Hole& hole : report.holes) {
+    for (int& p : hole.rim) p = thin.representative[p];
+    std::sort(hole.rim.begin(), hole.rim.end());
+    hole.rim.erase(std::unique(hole.rim.begin(), hole.rim.end()), hole.rim.end());
+  }
   keep_only(report.kept, thin.kept);
   keep_only(surface.points, thin.kept);
   keep_only(surface.normals, thin.kept);
