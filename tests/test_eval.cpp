@@ -762,12 +762,20 @@ TEST(Evaluator, LidPointsCountOnlyForTheMedialSide) {
     for (double z : {0.0, 0.1, 0.2}) cloud.points.push_back(Vec3(std::cos(angle), std::sin(angle), z));
   }
   EvalOptions options;
-  const Evaluator open(cloud, options);
+  Evaluator open(cloud, options);
   options.lid_points = {Vec3(0.0, 0.0, 0.2)};
-  const Evaluator closed(cloud, options);
+  Evaluator closed(cloud, options);
   const std::vector<Vec3> above = {Vec3(0.0, 0.0, 0.3)};
   EXPECT_NEAR(open.distances_to_shape(above).front(), std::hypot(1.0, 0.1), 1e-9);
   EXPECT_NEAR(closed.distances_to_shape(above).front(), 0.1, 1e-9);
+  // A sphere filling the ring and bulging above it: the surface side is the same with the lid,
+  // the medial side nearer.
+  MedialMesh medial;
+  medial.spheres.push_back({Vec3(0.0, 0.0, 0.1), 1.0});
+  const EvalResult without = open(medial), with = closed(medial);
+  EXPECT_EQ(with.surface_sample_count, without.surface_sample_count);
+  EXPECT_DOUBLE_EQ(with.surface_to_medial_max, without.surface_to_medial_max);
+  EXPECT_LT(with.medial_to_surface_max, without.medial_to_surface_max);
 }
 
 }  // namespace

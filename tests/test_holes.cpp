@@ -7,6 +7,7 @@
 #include "prepare/holes.hpp"
 #include "prepare/prepare.hpp"
 #include "test_shapes.hpp"
+#include "vmas/vmas.hpp"
 
 namespace vmas {
 namespace {
@@ -87,6 +88,21 @@ TEST(Holes, ALidClosesTheOpeningAcrossItsRim) {
   EXPECT_NEAR(highest - highest_flat, 0.03, 0.01);
   EXPECT_LE(highest_left, highest_flat + 1e-9);
   EXPECT_TRUE(lid_points({}, plane, 0.02).empty());
+}
+
+// The refinement measures a cloud with a hole against its lid, a closed one against its points.
+TEST(Holes, TheRefinementClosesACloudsHolesOnly) {
+  const auto prepared = [](const Sample& s) {
+    SurfaceInput input;
+    input.points = s.points;
+    return prepare_shape(input);
+  };
+  const Sample sphere = test::sample_sphere(Vec3::Zero(), 1.0, 20000, 16);
+  const PreparedShape open = prepared(cut_below(sphere, 0.8));
+  ASSERT_FALSE(open.result.prepare.holes.empty());
+  const std::vector<Vec3> lid = refinement_eval_options(open).lid_points;
+  EXPECT_GT(lid.size(), 100u);
+  EXPECT_TRUE(refinement_eval_options(prepared(sphere)).lid_points.empty());
 }
 
 // A cut across a thin tube (a handle, a vessel's ornament) sampled a few points around: its rim's

@@ -45,7 +45,7 @@ TEST(Validity, TunnelsFitWhereTheSolidIsOpenOrShallow) {
     const double angle = 2.0 * 3.14159265358979 * i / 3.0;
     spheres.push_back({Vec3(std::cos(angle), std::sin(angle), 0.0), 0.3});
   }
-  // Three spheres inside the tube, close together: their centroid lies 0.25 deep in the solid.
+  // Three spheres inside the tube, close together: their centroid lies about 0.27 deep in the solid.
   spheres.push_back({Vec3(1.0, -0.05, 0.0), 0.25});
   spheres.push_back({Vec3(1.0, 0.05, 0.0), 0.25});
   spheres.push_back({Vec3(0.95, 0.0, 0.05), 0.25});

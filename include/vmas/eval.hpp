@@ -7,7 +7,8 @@
 //     smallest unsigned distance to the boundary of any sphere, cone or tangent triangle;
 //   medial -> surface: for samples on every primitive boundary that lie inside no other
 //     primitive, the distance to the input mesh (to the nearest input point for a cloud, or to
-//     the nearest of its points' tangent discs: EvalOptions::cloud_as_discs).
+//     the nearest of its points' tangent discs: EvalOptions::cloud_as_discs), or to the nearest
+//     of EvalOptions::lid_points when nearer.
 // ε (hausdorff) is the larger of the two maxima; percent() expresses it relative to the input's
 // bounding-box diagonal as the paper does.
 #include <cstddef>
@@ -63,7 +64,7 @@ class Evaluator {
   void keep_memory();
   void restore_memory();
   // The distance of each query to the shape, as the medial -> surface side measures it (a
-  // mesh's faces; a cloud's points, or their tangent discs with cloud_as_discs).
+  // mesh's faces; a cloud's points, or their tangent discs with cloud_as_discs; lid_points).
   std::vector<double> distances_to_shape(const std::vector<Vec3>& queries) const;
 
  private:

@@ -287,10 +287,10 @@ struct EvalOptions {
   // (src/core/subsample.hpp), when it has more (0: all of them): a smoothed mesh holds no detail finer
   // than its noise. Only with maxima_only (vertex_error needs every point).
   std::size_t max_input_points = 0;
-  // Clouds: points that close openings as a solid closes them (lids across their rims), which
-  // the medial -> surface side measures to besides the input's points (never from): what no
+  // Points (in the shape's frame) that close openings as a solid closes them, lids across their
+  // rims, which the medial -> surface side measures to besides the shape (never from): what no
   // solid can do, come near data across an opening, is not counted; what it can, cover the data
-  // and not bulge out past the rims, is. The refinement measures an open scan so.
+  // and not bulge out past the rims, is. The refinement measures an open cloud so.
   std::vector<Vec3> lid_points;
 
   void validate() const;  // throws InvalidOption

@@ -46,7 +46,8 @@ struct Result {
   int loops_opened = 0;         // missing loops opened (Options::loops_to_genus)
   InvalidSpheres invalid_spheres;
   double measured_error = 0.0;  // the skeleton's two-sided Hausdorff distance to the prepared
-                                // data (the refinement's measure), fraction of its diagonal
+                                // data, its holes closed by lids (the refinement's measure),
+                                // fraction of its diagonal
   SmoothingCheck smoothing_check;
   std::vector<double> start_errors;  // measured_error of every start, in order (Options::starts)
   int start_kept = 0;                // which of them is the result
@@ -95,7 +96,8 @@ class InputRows {
   std::size_t vertices_ = 0;
 };
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
-// its smoothing, and on a smoothed mesh about smoothed_points_needed() of its vertices.
+// its smoothing, on a smoothed mesh about smoothed_points_needed() of its vertices, and on a
+// cloud with holes lids across them (EvalOptions::lid_points).
 EvalOptions refinement_eval_options(const PreparedShape& prepared);
 
 // What skeletonize() keeps of the runs on a prepared shape: its starts (options.starts, side by

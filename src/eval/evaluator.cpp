@@ -191,6 +191,8 @@ void EvalOptions::validate() const {
   if (!(inside_tolerance >= 0.0 && inside_tolerance <= 0.01)) {
     throw InvalidOption("inside_tolerance", "must be in [0, 0.01] (fraction of the diagonal)");
   }
+  for (const Vec3& p : lid_points)
+    if (!p.allFinite()) throw InvalidOption("lid_points", "must be finite");
   if (max_input_points > 0 && !maxima_only) {
     throw InvalidOption("max_input_points", "needs maxima_only (vertex_error has every point)");
   }

@@ -165,11 +165,9 @@ std::vector<Warning> warnings_about(const Result& result) {
     warnings.push_back(
         {"large-error", std::string("the skeleton is ") + figure +
                             " % of the diagonal away from the data at its worst (two-sided "
-                            "Hausdorff distance to the data as prepared, smoothed when noisy): " +
-                            (holes.empty() ? std::string("more spheres (--spheres) or a smaller "
-                                                         "--lambda fit the shape closer")
-                                           : std::string("where it spans the data's holes, "
-                                                         "more spheres do not help"))});
+                            "Hausdorff distance to the data as prepared, smoothed when noisy" +
+                            (holes.empty() ? std::string("): ") : std::string(", its holes closed: ")) +
+                            "more spheres (--spheres) or a smaller --lambda fit the shape closer"});
   }
   if (result.summary.error_threshold_missed)
     warnings.push_back(
@@ -284,6 +282,10 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 
 }  // namespace
 
+// Lids of an open scan's holes hold at most this many points in all (a KdTree of them costs
+// about 3 MB).
+constexpr int kLidPoints = 40000;
+
 EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   const PrepareReport& report = prepared.result.prepare;
   EvalOptions measure = refinement_eval_options(report.smoothed());
@@ -291,11 +293,14 @@ EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   if (prepared.surface.is_mesh())
     measure.max_input_points =
         smoothed_points_needed(prepared.surface, report, spheres_at_most(prepared.run));
-  // An open scan is measured against what a solid can do: its openings closed by lids.
+  // An open scan is measured against what a solid can do: its openings closed by lids (at most
+  // kLidPoints points in all).
   for (const Hole& hole : report.holes) {
     std::vector<Vec3> rim;
     for (int p : hole.rim) rim.push_back(points[p]);
-    const std::vector<Vec3> lid = lid_points(rim, rim_plane(rim, points), report.noise.spacing);
+    const std::vector<Vec3> lid =
+        lid_points(rim, rim_plane(rim, points), report.noise.spacing,
+                   std::max(1, kLidPoints / static_cast<int>(report.holes.size())));
     measure.lid_points.insert(measure.lid_points.end(), lid.begin(), lid.end());
   }
   return measure;

@@ -40,7 +40,6 @@ constexpr int kRimLinks = 4;
 constexpr double kRimLinkReach = 1.5;
 // A lid's outline: the rim's farthest point in each sector around its centre.
 constexpr int kLidSectors = 64;
-constexpr double kMaxLidPoints = 20000.0;
 
 // Whether `p` (normal `n`) sees its neighbours `around` on one side only.
 bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, int p,
@@ -126,6 +125,7 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
 
 RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud) {
   RimPlane plane;
+  if (rim.empty()) return plane;
   for (const Vec3& p : rim) plane.centre += p;
   plane.centre /= static_cast<double>(rim.size());
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
@@ -142,8 +142,20 @@ RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud)
   return plane;
 }
 
-std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing) {
-  if (rim.empty() || !(plane.radius > 0.0)) return {};
+std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing,
+                             int at_most) {
+  if (rim.size() < 2 || !(plane.radius > 0.0) || at_most < 1) return {};
+  if (!(spacing > 0.0)) {
+    const KdTree tree(rim);
+    std::vector<double> nearest(rim.size());
+    std::vector<int> two;
+    std::vector<double> squared;
+    for (std::size_t i = 0; i < rim.size(); ++i) {
+      tree.k_nearest(rim[i], 2, two, squared);
+      nearest[i] = std::sqrt(squared.back());
+    }
+    spacing = median(nearest);
+  }
   const Vec3 u = plane.outward.unitOrthogonal(), v = plane.outward.cross(u);
   const auto sector_of = [&](double x, double y) {
     const double turn = (std::atan2(y, x) + M_PI) / (2.0 * M_PI);
@@ -171,7 +183,7 @@ std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane
       lifted[s] = height[nearer];
     }
   }
-  const double step = std::max(spacing, plane.radius * std::sqrt(M_PI / kMaxLidPoints));
+  const double step = std::max(spacing, plane.radius * std::sqrt(M_PI / at_most));
   const int steps = static_cast<int>(std::ceil(plane.radius / step));
   std::vector<Vec3> lid;
   for (int i = -steps; i <= steps; ++i)
@@ -181,7 +193,7 @@ std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane
       const double r = std::hypot(x, y);
       if (r <= filled[sector])
         lid.push_back(plane.centre + x * u + y * v +
-                             (r / filled[sector]) * lifted[sector] * plane.outward);
+                      (r > 0.0 ? r / filled[sector] : 0.0) * lifted[sector] * plane.outward);
     }
   return lid;
 }

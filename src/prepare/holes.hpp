@@ -28,9 +28,11 @@ struct RimPlane {
 RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud);
 
 // Points that close a hole as a solid closes it: a lid over its rim, an even grid `spacing` apart
-// on the rim's plane (coarser when more than 20 000 would be needed) out to the rim as seen from
-// the centre (the farthest rim point in each of 64 sectors around it), lifted off the plane as a
-// cone from the centre to that point, so that the lid meets a rim that is not flat.
-std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing);
+// (the rim points' median distance to their nearest when not positive; coarser when more than
+// `at_most` points would be needed) on the rim's plane, out to the rim as seen from the centre
+// (the farthest rim point in each of 64 sectors around it), lifted off the plane as a cone from
+// the centre to that point, so that the lid meets a rim that is not flat.
+std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing,
+                             int at_most = 20000);
 
 }  // namespace vmas
