@@ -395,9 +395,12 @@ struct PythonResult {
   std::string summary;  // JSON
 };
 
-py::object summary_of(const PythonResult& r) {
-  return py::module_::import("json").attr("loads")(r.summary);
+// JSON text as Python objects (dicts, lists, numbers), as json.loads gives them.
+py::object from_json(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text);
 }
+
+py::object summary_of(const PythonResult& r) { return from_json(r.summary); }
 
 py::list warnings_of(const std::vector<Warning>& warnings) {
   py::list list;
@@ -952,8 +955,7 @@ void def_edit_session_control(py::class_<PythonEditSession>& edit_session) {
             d["finish_phase"] = snap.finish_phase;
             d["finish_fraction"] = snap.finish_fraction;
             d["measured_error"] = snap.measured_error;
-            d["topology"] = py::module_::import("json").attr("loads")(
-                cli::edit_topology_summary(snap).dump());
+            d["topology"] = from_json(cli::edit_topology_summary(snap).dump());
             if (snap.density) {
               const std::vector<double> density = e.map().rows().by_row(*snap.density);
               d["density"] = py::array_t<double>(static_cast<py::ssize_t>(density.size()),
@@ -1170,8 +1172,7 @@ void def_evaluate(py::module_& m) {
           r = evaluate(cleaned, mesh);
           openings = opening_reach(cleaned, r);
         }
-        py::dict d = py::module_::import("json").attr("loads")(
-            cli::eval_figures(r, &openings).dump());
+        py::dict d = from_json(cli::eval_figures(r, &openings).dump());
         const MedialTopology topology = medial_topology(mesh);
         py::dict betti;
         betti["b0"] = topology.components;

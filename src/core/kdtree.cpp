@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <flann/flann.hpp>
 #include <limits>
 #include <memory>
@@ -292,6 +293,18 @@ void KdTree::k_nearest(const Vec3& query, int k, std::vector<int>& indices,
   const std::size_t n = flann_query::k_nearest(impl_->flann_index(), q, found.size(), found.data(),
                                                squared_distances.data(), params);
   for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<int>(found[i]);
+}
+
+double median_spacing(const KdTree& tree, const std::vector<Vec3>& points, int stride) {
+  if (points.size() < 2) return 0.0;
+  std::vector<double> spacings;
+  std::vector<int> indices;
+  std::vector<double> squared_distances;
+  for (std::size_t i = 0; i < points.size(); i += static_cast<std::size_t>(stride)) {
+    tree.k_nearest(points[i], 2, indices, squared_distances);
+    spacings.push_back(std::sqrt(squared_distances.back()));
+  }
+  return median(spacings);
 }
 
 }  // namespace vmas

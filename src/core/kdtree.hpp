@@ -34,4 +34,8 @@ class KdTree {
   std::size_t count_ = 0;
 };
 
+// The median distance from every `stride`-th of the tree's `points` to its nearest other point
+// (a sampling's spacing); 0 for fewer than two points.
+double median_spacing(const KdTree& tree, const std::vector<Vec3>& points, int stride = 1);
+
 }  // namespace vmas

@@ -24,9 +24,8 @@ OpeningReach opening_reach(const SurfaceInput& cloud, const EvalResult& evaluate
   }
   result.openings = static_cast<int>(report.holes.size());
   for (const Hole& hole : report.holes) {
-    std::vector<Vec3> rim;
-    rim.reserve(hole.rim.size());
-    for (int p : hole.rim) rim.push_back(report.frame.to_input(prepared.points[p]));
+    std::vector<Vec3> rim = rim_points(hole, prepared.points);
+    for (Vec3& p : rim) p = report.frame.to_input(p);
     const RimPlane plane = rim_plane(rim, cloud.points);
     for (const Vec3& q : evaluated.boundary_samples) {
       const Vec3 offset = q - plane.centre;

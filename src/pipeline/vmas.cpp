@@ -282,27 +282,14 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 
 }  // namespace
 
-// Lids of an open scan's holes hold at most this many points in all (a KdTree of them costs
-// about 3 MB).
-constexpr int kLidPoints = 40000;
-
 EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   const PrepareReport& report = prepared.result.prepare;
   EvalOptions measure = refinement_eval_options(report.smoothed());
-  const std::vector<Vec3>& points = prepared.surface.points;
   if (prepared.surface.is_mesh())
     measure.max_input_points =
         smoothed_points_needed(prepared.surface, report, spheres_at_most(prepared.run));
-  // An open scan is measured against what a solid can do: its openings closed by lids (at most
-  // kLidPoints points in all).
-  for (const Hole& hole : report.holes) {
-    std::vector<Vec3> rim;
-    for (int p : hole.rim) rim.push_back(points[p]);
-    const std::vector<Vec3> lid =
-        lid_points(rim, rim_plane(rim, points), report.noise.spacing,
-                   std::max(1, kLidPoints / static_cast<int>(report.holes.size())));
-    measure.lid_points.insert(measure.lid_points.end(), lid.begin(), lid.end());
-  }
+  // An open scan is measured against what a solid can do: its openings closed by lids.
+  measure.lid_points = lid_points(report.holes, prepared.surface.points, report.noise.spacing);
   return measure;
 }
 

@@ -40,6 +40,8 @@ constexpr int kRimLinks = 4;
 constexpr double kRimLinkReach = 1.5;
 // A lid's outline: the rim's farthest point in each sector around its centre.
 constexpr int kLidSectors = 64;
+// The lids of a cloud's holes hold at most this many points in all (a KdTree of them: ~3 MB).
+constexpr int kLidPoints = 40000;
 
 // Whether `p` (normal `n`) sees its neighbours `around` on one side only.
 bool on_rim(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, int p,
@@ -123,6 +125,13 @@ std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<
   return holes;
 }
 
+std::vector<Vec3> rim_points(const Hole& hole, const std::vector<Vec3>& points) {
+  std::vector<Vec3> rim;
+  rim.reserve(hole.rim.size());
+  for (int p : hole.rim) rim.push_back(points[p]);
+  return rim;
+}
+
 RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud) {
   RimPlane plane;
   if (rim.empty()) return plane;
@@ -145,17 +154,7 @@ RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud)
 std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing,
                              int at_most) {
   if (rim.size() < 2 || !(plane.radius > 0.0) || at_most < 1) return {};
-  if (!(spacing > 0.0)) {
-    const KdTree tree(rim);
-    std::vector<double> nearest(rim.size());
-    std::vector<int> two;
-    std::vector<double> squared;
-    for (std::size_t i = 0; i < rim.size(); ++i) {
-      tree.k_nearest(rim[i], 2, two, squared);
-      nearest[i] = std::sqrt(squared.back());
-    }
-    spacing = median(nearest);
-  }
+  if (!(spacing > 0.0)) spacing = median_spacing(KdTree(rim), rim);
   const Vec3 u = plane.outward.unitOrthogonal(), v = plane.outward.cross(u);
   const auto sector_of = [&](double x, double y) {
     const double turn = (std::atan2(y, x) + M_PI) / (2.0 * M_PI);
@@ -196,6 +195,18 @@ std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane
                       (r > 0.0 ? r / filled[sector] : 0.0) * lifted[sector] * plane.outward);
     }
   return lid;
+}
+
+std::vector<Vec3> lid_points(const std::vector<Hole>& holes, const std::vector<Vec3>& points,
+                             double spacing) {
+  std::vector<Vec3> lids;
+  for (const Hole& hole : holes) {
+    const std::vector<Vec3> rim = rim_points(hole, points);
+    const std::vector<Vec3> lid = lid_points(rim, rim_plane(rim, points), spacing,
+                                             std::max(1, kLidPoints / static_cast<int>(holes.size())));
+    lids.insert(lids.end(), lid.begin(), lid.end());
+  }
+  return lids;
 }
 
 }  // namespace vmas

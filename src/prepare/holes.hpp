@@ -18,6 +18,9 @@ namespace vmas {
 std::vector<Hole> find_holes(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                              bool smoothed = false);
 
+// The positions of a hole's rim points among `points` (those find_holes was given).
+std::vector<Vec3> rim_points(const Hole& hole, const std::vector<Vec3>& points);
+
 // The plane of a hole's rim: its centre, its unit normal towards the outside of `cloud` (the side
 // fewer of its points lie on), and the rim's largest distance from the centre within the plane.
 struct RimPlane {
@@ -34,5 +37,8 @@ RimPlane rim_plane(const std::vector<Vec3>& rim, const std::vector<Vec3>& cloud)
 // the centre to that point, so that the lid meets a rim that is not flat.
 std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane, double spacing,
                              int at_most = 20000);
+// The lids of all `holes` of `points` (a cloud, `spacing` apart), 40 000 points at most in all.
+std::vector<Vec3> lid_points(const std::vector<Hole>& holes, const std::vector<Vec3>& points,
+                             double spacing);
 
 }  // namespace vmas

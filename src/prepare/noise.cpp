@@ -40,14 +40,7 @@ NoiseEstimate estimate_noise(const std::vector<Vec3>& points) {
     throw InvalidInput("too few points (" + std::to_string(count) + ") to estimate the noise");
   NoiseEstimate estimate;
   const KdTree tree(points);
-  std::vector<double> spacings;
-  std::vector<int> indices;
-  std::vector<double> squared_distances;
-  for (int i = 0; i < count; i += std::max(1, count / kSubset)) {
-    tree.k_nearest(points[i], 2, indices, squared_distances);
-    spacings.push_back(std::sqrt(squared_distances.back()));
-  }
-  estimate.spacing = median(spacings);
+  estimate.spacing = median_spacing(tree, points, std::max(1, count / kSubset));
 
   std::vector<Vec3> subset;
   for (int i = 0; i < count; i += std::max(1, count / kSubset)) subset.push_back(points[i]);
