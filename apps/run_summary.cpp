@@ -88,6 +88,7 @@ json noise_summary(const PrepareReport& prepared, const SmoothingCheck& check) {
           {"deviation_percent", percent_of(prepared.noise.sigma, prepared.diagonal)},
           {"spacing_percent", percent_of(prepared.noise.spacing, prepared.diagonal)},
           {"smoothed", prepared.smoothed()},
+          {"from_facets", prepared.noise_from_facets},
           {"mls_radius_percent", percent_of(prepared.mls_radius, prepared.diagonal)},
           {"mesh_smoothing_steps", prepared.mesh_smoothing_steps},
           {"residual_percent", percent_of(prepared.residual_noise, prepared.diagonal)},

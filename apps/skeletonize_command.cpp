@@ -116,7 +116,10 @@ void print_preparation(const json& s, const Settings& settings, std::ostream& ou
   if (noise["measured"].get<bool>())
     out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
         << noise["spacing_percent"] << " %)"
-        << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
+        << (noise["from_facets"].get<bool>()
+                ? std::string("; not smoothed: its vertices are too far apart to tell noise from "
+                              "facets")
+            : !noise["smoothed"].get<bool>() ? std::string("; not smoothed")
             : noise["mesh_smoothing_steps"].get<int>() > 0
                 ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
                       " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"

@@ -69,10 +69,9 @@ double distance_to_box_surface(const Vec3& p, const Vec3& size) {
 }
 
 TEST(MeshSampling, ADenseOrWellShapedMeshIsLeftAsItIs) {
-  // Dense; and few vertices, but well-shaped faces (sampling them gave worse skeletons).
+  // Dense; and a few hundred vertices, but well-shaped faces (sampling them gave worse skeletons).
   for (const SurfaceInput& mesh :
-       {test::icosphere(Vec3::Zero(), 1.0, 5), test::icosphere(Vec3::Zero(), 1.0, 2),
-        coarse_box(Vec3(1.0, 1.0, 1.0))}) {
+       {test::icosphere(Vec3::Zero(), 1.0, 5), test::icosphere(Vec3::Zero(), 1.0, 2)}) {
     SurfaceInput sampled = mesh;
     const MeshSampling sampling = sample_coarse_mesh(sampled);
     EXPECT_EQ(sampling.vertices_before, 0u);
@@ -123,6 +122,29 @@ TEST(MeshSampling, BothSidesOfAThinWallGetVertices) {
   // stand for one on this side.
   EXPECT_GT(above, 0.6 * below);
   EXPECT_GT(below, 0.6 * above);
+}
+
+TEST(MeshSampling, ALowPolyMeshIsSampledNotSmoothed) {
+  // A cube of eight vertices: well-shaped faces, but too few vertices for any sphere count.
+  SurfaceInput cube = coarse_box(Vec3(1.0, 1.0, 1.0));
+  EXPECT_EQ(sample_coarse_mesh(cube).vertices_before, 8u);
+  // A 128-vertex torus: its 16-vertex neighbourhoods span its bends, which read as noise of
+  // about 40 % of its spacing; smoothing that would shrink the tube, not denoise it.
+  const SurfaceInput torus = test::torus(1.0, 0.4, 16, 8);
+  Options options;
+  options.run.target.spheres = 16;
+  const Result result = skeletonize(torus, options);
+  EXPECT_TRUE(result.prepare.noise_from_facets);
+  EXPECT_FALSE(result.prepare.smoothed());
+  EXPECT_EQ(result.prepare.mesh_sampled_from, torus.points.size());
+  EXPECT_EQ(result.skeleton_components, 1);
+  const double error = evaluate(torus, result.medial_mesh).hausdorff / result.prepare.diagonal;
+  std::cout << "128-vertex torus at 16 spheres, error / diagonal: " << error << "\n";
+  EXPECT_LT(error, 0.03);
+  // A dense torus's noise reading is its own.
+  const Result dense = skeletonize(test::torus(1.0, 0.4, 96, 48), options);
+  EXPECT_FALSE(dense.prepare.noise_from_facets);
+  EXPECT_EQ(dense.prepare.mesh_sampled_from, 0u);
 }
 
 TEST(MeshSampling, ACoarseRodGetsAMedialSkeleton) {

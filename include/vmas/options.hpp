@@ -122,6 +122,8 @@ struct PrepareReport {
   std::size_t stray_clusters = 0;  // groups of points apart from the object, removed (their
   std::vector<int> stray_points;   // input points, ascending, are among the outliers)
   NoiseEstimate noise;          // as measured (or given), before smoothing
+  bool noise_from_facets = false;  // a mesh too coarse for the noise reading: what it read is
+                                   // its facets, and the mesh was not smoothed
   double diagonal = 0.0;        // bounding-box diagonal of the prepared points
   double mls_radius = 0.0;      // clouds: support of the MLS smoothing (0: not smoothed)
   int mesh_smoothing_steps = 0;  // meshes: Taubin steps along the faces (0: not smoothed)

@@ -19,6 +19,7 @@ namespace {
 constexpr double kReferencePoints = 1e4;    // s: the spacing of this many points over the area
 constexpr double kCoarseEdgeInSpacings = 3.0;  // a face with an edge this many s long ...
 constexpr double kThinAspect = 4.0;  // ... and its height on it this many times shorter is coarse
+constexpr double kLongEdgeInSpacings = 10.0;  // so is a face of any shape with an edge this long
 constexpr double kCoarseAreaShare = 0.01;      // a mesh is coarse with this much coarse area
 constexpr double kEdgeLimitInSpacings = 1.5;   // longer edges are split ...
 constexpr double kFlatInSpacings = 0.01;       // ... and faces this flat flipped
@@ -34,13 +35,15 @@ double squared_length(const SurfaceInput& mesh, int a, int b) {
 }
 
 // A long, thin face: what a CAD exporter leaves across a flat face or along a straight wall. A
-// well-shaped face, however large, samples its part of the surface as evenly as the rest.
+// well-shaped face samples its part of the surface as evenly as the rest, unless it is so large
+// that the whole mesh has only a few hundred vertices (a low-poly model: too few for its spheres).
 bool coarse_face(const SurfaceInput& mesh, const std::array<int, 3>& f, double spacing) {
   const double longest =
       std::sqrt(std::max({squared_length(mesh, f[0], f[1]), squared_length(mesh, f[1], f[2]),
                           squared_length(mesh, f[2], f[0])}));
   const double height = 2.0 * triangle_area(mesh, f) / longest;
-  return longest > kCoarseEdgeInSpacings * spacing && longest > kThinAspect * height;
+  return longest > kCoarseEdgeInSpacings * spacing &&
+         (longest > kThinAspect * height || longest > kLongEdgeInSpacings * spacing);
 }
 
 // The vertices of a mesh in cells of a grid, to find those near a point; each with the unit

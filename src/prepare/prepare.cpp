@@ -51,6 +51,11 @@ constexpr int kMinMaxPoints = 1000;
 constexpr int kDeviationSamples = 4000;
 // Pairs of Taubin passes for a noisy mesh (smooth_mesh).
 constexpr int kMeshSmoothingSteps = 40;
+// A mesh's noise is read from fits to 16 or more of its vertices; where they lie more than this
+// fraction of the diagonal apart, such a fit spans a bend of the shape and a clean low-poly mesh's
+// facets read as noise (CGAL's 231-vertex double torus: 1.9 %; smoothed, it kept 2.25 % and its
+// skeleton fell apart). The noisiest meshes of Table 2 are at most 1 % apart.
+constexpr double kMeshSpacingForNoise = 0.02;
 // A smoothed cloud's points are needed about this many noises apart (the MLS fits sit on a grid
 // of 4 / 6 of the smoothing's scale, which is at least the noise), and at least this many per
 // sphere (a gear's 230 spheres on 2 600 points came out worse than without smoothing).
@@ -239,7 +244,9 @@ bool is_noisy_input(const SurfaceInput& surface, PrepareReport& report,
   if (options.denoise == PrepareOptions::Denoise::Auto &&
       surface.points.size() >= kMinPointsForNoise) {
     if (!noise_measured) report.noise = estimate_noise(surface.points);
-    return is_noisy(report.noise, options.noise);
+    report.noise_from_facets =
+        surface.is_mesh() && report.noise.spacing > kMeshSpacingForNoise * report.diagonal;
+    return !report.noise_from_facets && is_noisy(report.noise, options.noise);
   }
   if (options.denoise == PrepareOptions::Denoise::Fixed) {
     if (surface.points.size() >= kMinPointsForNoise)
