@@ -778,5 +778,35 @@ TEST(Evaluator, LidPointsCountOnlyForTheMedialSide) {
   EXPECT_LT(with.medial_to_surface_max, without.medial_to_surface_max);
 }
 
+// A sphere shifted along x from a unit sphere's medial sphere is 0.1 off at both poles, on both
+// sides; weights make the pole where they are high the worst.
+TEST(Evaluator, PointWeightsScaleTheDistancesOfBothSides) {
+  const SurfaceInput mesh = test::icosphere(Vec3::Zero(), 1.0, 4);
+  MedialMesh medial;
+  medial.spheres = {{Vec3(0.1, 0, 0), 1.0}};
+  EvalOptions options;
+  options.surface_samples = 0;
+  for (const double light_side : {1.0, -1.0}) {
+    options.point_weights.clear();
+    for (const Vec3& p : mesh.points) options.point_weights.push_back(p.x() * light_side > 0 ? 0.25 : 1.0);
+    const EvalResult result = Evaluator(mesh, options)(medial);
+    EXPECT_NEAR(result.surface_to_medial_max, 0.1, 3e-3);
+    EXPECT_NEAR(result.medial_to_surface_max, 0.1, 3e-3);
+    EXPECT_LT(result.surface_to_medial_worst.x() * light_side, -0.9);
+    EXPECT_LT(result.medial_to_surface_worst.x() * light_side, -0.8);
+  }
+  options.point_weights.assign(mesh.points.size(), 0.5);
+  const EvalResult half = Evaluator(mesh, options)(medial);
+  EXPECT_NEAR(half.hausdorff, 0.05, 2e-3);
+  // Refused: a weight beyond [0, 1], one per point missing, random samples (no weight).
+  options.point_weights[3] = 1.5;
+  EXPECT_THROW(Evaluator(mesh, options), InvalidOption);
+  options.point_weights.assign(mesh.points.size() - 1, 1.0);
+  EXPECT_THROW(Evaluator(mesh, options), InvalidOption);
+  options.point_weights.assign(mesh.points.size(), 1.0);
+  options.surface_samples = -1;
+  EXPECT_THROW(Evaluator(mesh, options), InvalidOption);
+}
+
 }  // namespace
 }  // namespace vmas

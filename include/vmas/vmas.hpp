@@ -97,7 +97,8 @@ class InputRows {
 };
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
 // its smoothing, on a smoothed mesh about smoothed_points_needed() of its vertices, and on a
-// cloud with holes lids across them (EvalOptions::lid_points).
+// cloud with holes lids across them (EvalOptions::lid_points), and with a density its distances
+// weighed by it (EvalOptions::point_weights: Shape::distance_weights).
 EvalOptions refinement_eval_options(const PreparedShape& prepared);
 
 // What skeletonize() keeps of the runs on a prepared shape: its starts (options.starts, side by

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
@@ -38,6 +39,23 @@ struct PieceSamples {  // medial -> surface: the uniform samples of one boundary
   std::vector<double> distance;      // to the input; NaN until needed; -d: at most d, not exact
 };
 
+// EvalOptions::point_weights on the medial -> surface side: a boundary sample's distance counts
+// by the weight of the input point nearest to it.
+class PointWeights {
+ public:
+  PointWeights(const std::vector<Vec3>& points, const std::vector<double>& weights)
+      : tree_(points), weights_(weights) {}
+  void apply(const std::vector<Vec3>& samples, std::vector<double>& distances) const {
+    const auto count = static_cast<std::ptrdiff_t>(samples.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] *= weights_[tree_.nearest(samples[i])];
+  }
+
+ private:
+  KdTree tree_;
+  const std::vector<double>& weights_;
+};
+
 }  // namespace internal
 
 using internal::BoundarySamples;
@@ -47,6 +65,7 @@ using internal::kInfinity;
 using internal::kNone;
 using internal::kUnknown;
 using internal::PieceSamples;
+using internal::PointWeights;
 using internal::ShapeDistance;
 using internal::SurfaceSideCache;
 
@@ -193,6 +212,10 @@ void EvalOptions::validate() const {
   }
   for (const Vec3& p : lid_points)
     if (!p.allFinite()) throw InvalidOption("lid_points", "must be finite");
+  for (double w : point_weights)
+    if (!(w >= 0.0 && w <= 1.0)) throw InvalidOption("point_weights", "must be in [0, 1]");
+  if (!point_weights.empty() && surface_samples != 0)
+    throw InvalidOption("point_weights", "needs surface_samples 0 (random samples have no weight)");
   if (max_input_points > 0 && !maxima_only) {
     throw InvalidOption("max_input_points", "needs maxima_only (vertex_error has every point)");
   }
@@ -220,6 +243,8 @@ struct Evaluator::Impl {
   double diagonal = 0.0;
   std::vector<Vec3> samples;  // surface -> medial: the input points, then random ones
   std::vector<int> visit;     // the samples' indices in an order that keeps neighbours together
+  std::vector<double> weights;  // of the samples' distances (EvalOptions::point_weights; empty: 1)
+  std::optional<PointWeights> boundary_weights;  // medial -> surface, with weights
   ShapeDistance distance;     // medial -> surface
   // What the last measurement left to re-use, and what keep_memory() set aside.
   struct Memory {
@@ -240,6 +265,10 @@ namespace {
 const SurfaceInput& checked(const SurfaceInput& shape, const EvalOptions& options) {
   options.validate();
   internal::check_shape(shape);
+  if (!options.point_weights.empty() && options.point_weights.size() != shape.points.size())
+    throw InvalidOption("point_weights", "must be empty or one per point of the shape (" +
+                                             std::to_string(shape.points.size()) + ", got " +
+                                             std::to_string(options.point_weights.size()) + ")");
   return shape;
 }
 
@@ -264,7 +293,13 @@ Evaluator::Evaluator(const SurfaceInput& shape, const EvalOptions& options)
     for (int i : thin.kept) samples.push_back(shape.points[i]);
     samples.insert(samples.end(), impl_->samples.begin() + points, impl_->samples.end());
     impl_->samples = std::move(samples);
+    if (!options.point_weights.empty())
+      for (int i : thin.kept) impl_->weights.push_back(options.point_weights[i]);
+  } else {
+    impl_->weights = options.point_weights;
   }
+  if (!options.point_weights.empty())
+    impl_->boundary_weights.emplace(shape.points, impl_->options.point_weights);
   impl_->visit = internal::z_order(impl_->samples);
 }
 
@@ -438,6 +473,7 @@ namespace {
 // the spacing: refined (twice, 4x finer) around the samples with the largest distances that
 // could still hold it. The uniform samples and their distances go to `result` first.
 void refine_medial_to_surface_max(const Envelope& envelope, const ShapeDistance& distance,
+                                  const std::optional<PointWeights>& weights,
                                   const EvalOptions& options, double spacing, double tolerance,
                                   BoundarySamples boundary, std::vector<double> to_surface,
                                   EvalResult& result) {
@@ -464,6 +500,7 @@ void refine_medial_to_surface_max(const Envelope& envelope, const ShapeDistance&
     boundary = envelope.visible(finer, tolerance);
     to_surface = distance(
         boundary.points, options.maxima_only ? result.medial_to_surface_max - spacing : -kInfinity);
+    if (weights) weights->apply(boundary.points, to_surface);
     for (std::size_t i = 0; i < to_surface.size(); ++i) {
       if (to_surface[i] <= result.medial_to_surface_max) continue;
       result.medial_to_surface_max = to_surface[i];
@@ -482,11 +519,20 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // Only the maximum is wanted: samples stop at the first piece nearer than a share of the last
   // maximum, and are measured again exactly in the rare case that the maximum is below that (an
   // estimate is at most the maximum).
+  // A weight is at most 1: a distance below the threshold stays below it weighted.
   const double below = stop_threshold(options, impl_->last_surface_max);
-  const std::vector<double>* surface_side = &impl_->surface_side(envelope, below);
-  if (below > 0.0 && max_and_mean(*surface_side).first < below)
-    surface_side = &impl_->surface_side(envelope, 0.0);
-  const std::vector<double>& to_medial = *surface_side;
+  std::vector<double> weighted;
+  const auto surface_side = [&](double stop_below) -> const std::vector<double>& {
+    const std::vector<double>& distances = impl_->surface_side(envelope, stop_below);
+    if (impl_->weights.empty()) return distances;
+    weighted.resize(distances.size());
+    for (std::size_t i = 0; i < distances.size(); ++i)
+      weighted[i] = distances[i] * impl_->weights[i];
+    return weighted;
+  };
+  const std::vector<double>* measured = &surface_side(below);
+  if (below > 0.0 && max_and_mean(*measured).first < below) measured = &surface_side(0.0);
+  const std::vector<double>& to_medial = *measured;
 
   // Medial -> surface: the uniform samples give the mean, the maximum is refined around them.
   const double tolerance = options.inside_tolerance * result.diagonal;
@@ -510,12 +556,14 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
     boundary = {};
     impl_->boundary_side(envelope, spacing, tolerance, 0.0, boundary, to_surface);
   }
+  if (impl_->boundary_weights) impl_->boundary_weights->apply(boundary.points, to_surface);
   impl_->last_refined_least = least_of_largest(to_surface, refined);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
   result.boundary_sample_count = boundary.points.size();
-  refine_medial_to_surface_max(envelope, impl_->distance, options, spacing, tolerance,
-                               std::move(boundary), std::move(to_surface), result);
+  refine_medial_to_surface_max(envelope, impl_->distance, impl_->boundary_weights, options,
+                               spacing, tolerance, std::move(boundary), std::move(to_surface),
+                               result);
 
   std::tie(result.surface_to_medial_max, result.surface_to_medial_mean) = max_and_mean(to_medial);
   result.surface_to_medial_worst = worst_point(impl_->samples, to_medial);

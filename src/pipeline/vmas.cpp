@@ -290,6 +290,8 @@ EvalOptions refinement_eval_options(const PreparedShape& prepared) {
         smoothed_points_needed(prepared.surface, report, spheres_at_most(prepared.run));
   // An open scan is measured against what a solid can do: its openings closed by lids.
   measure.lid_points = lid_points(report.holes, prepared.surface.points, report.noise.spacing);
+  // Where a density asks for finer spheres, the error counts more (docs/design.md, "Density").
+  measure.point_weights = prepared.shape.distance_weights();
   return measure;
 }
 
