@@ -170,15 +170,15 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
       << ", total error " << text_of(s["total_error"].get<double>()) << "\n";
   out << topology_line(s["topology"]) << "\n";
   const json& refine = s["refine"];
-  // With a density, the refinement weighs each distance by it (docs/design.md, "Density").
-  const std::string weighted = s["density"]["given"].get<bool>() ? " (density-weighted)" : "";
   if (refine["moves_tried"].get<int>() > 0)
     out << "refine: " << refine["moves_kept"] << " of " << refine["moves_tried"]
-        << " moves kept, measured epsilon" << weighted << " " << refine["error_before_percent"]
-        << " % -> " << refine["error_after_percent"] << " %\n";
+        << " moves kept, measured epsilon " << refine["error_before_percent"] << " % -> "
+        << refine["error_after_percent"] << " %\n";
   const json& starts = s["starts"]["measured_error_percent"];
   if (starts.size() > 1) {
-    out << "starts: measured epsilon" << weighted;
+    // With a density, they are ranked by the error it weighs (docs/design.md, "Density").
+    out << "starts: measured epsilon"
+        << (s["density"]["given"].get<bool>() ? " (density-weighted)" : "");
     for (const json& error : starts) out << (&error == &starts[0] ? " " : " / ") << error << " %";
     out << "; start " << s["starts"]["kept"] << " kept\n";
   }

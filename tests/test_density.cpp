@@ -2,6 +2,7 @@
 // how it follows the points through preparation, and the errors of bad fields.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -74,20 +75,22 @@ TEST(Density, AFourToOneFieldMovesSpheresIntoTheDenseRegion) {
   EXPECT_GE(dense, 2.0 * uniform) << "uniform " << uniform << ", 4:1 " << dense;
 }
 
-// The refinement measures each distance by (d / d_max)²: a 4 : 1 field counts the sparse end's
-// distances a sixteenth; a uniform field weighs nothing.
-TEST(Density, TheRefinementWeighsItsMeasureByTheField) {
+// The starts are ranked by their error with each distance weighed by (d / d_max)²: a 4 : 1 field
+// counts the sparse end's distances a sixteenth; a uniform field weighs nothing.
+TEST(Density, TheStartsAreRankedByTheErrorTheFieldWeighs) {
   const SurfaceInput cloud = ellipsoid_cloud();
   SurfaceInput weighted = cloud, uniform = cloud;
   for (const Vec3& p : cloud.points) weighted.density.push_back(in_dense_end(p) ? 4.0 : 1.0);
   uniform.density.assign(cloud.points.size(), 4.0);
-  const PreparedShape prepared = prepare_shape(weighted, with_spheres(30));
-  const std::vector<double> weights = refinement_eval_options(prepared).point_weights;
-  ASSERT_EQ(weights.size(), prepared.surface.points.size());
-  for (std::size_t i = 0; i < weights.size(); ++i)
-    EXPECT_DOUBLE_EQ(weights[i], prepared.surface.density[i] == 4.0 ? 1.0 : 1.0 / 16.0);
-  EXPECT_TRUE(
-      refinement_eval_options(prepare_shape(uniform, with_spheres(30))).point_weights.empty());
+  Options options = with_spheres(30);
+  options.starts = 2;
+  const Result result = skeletonize(weighted, options);
+  ASSERT_EQ(result.start_errors.size(), 2u);
+  const double kept = result.start_errors[result.start_kept];
+  EXPECT_EQ(kept, *std::min_element(result.start_errors.begin(), result.start_errors.end()));
+  EXPECT_LT(kept, result.measured_error);
+  const Result plain = skeletonize(uniform, options);
+  EXPECT_EQ(plain.start_errors[plain.start_kept], plain.measured_error);
 }
 
 TEST(Density, AnErrorThresholdIsMetWhereTheDensitySays) {

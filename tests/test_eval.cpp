@@ -577,21 +577,29 @@ TEST(Eval, MaximaAreExactWhateverWasMeasuredBeforeOrKept) {
   shifted.spheres[0].center.x() += 0.05;
   const std::vector<MedialMesh> sequence{random_medial(5), exact, random_medial(5), shifted,
                                          random_medial(5), exact};
-  EvalOptions options;
-  options.boundary_spacing = 0.01;
-  options.maxima_only = true;
-  EvalOptions everything = options;
-  everything.maxima_only = false;
-  Evaluator evaluator(mesh, options);
-  for (std::size_t k = 0; k < sequence.size(); ++k) {
-    if (k == 1) evaluator.keep_memory();  // the state after sequence[0]
-    if (k == 4) evaluator.restore_memory();
-    const EvalResult measured = evaluator(sequence[k]);
-    const EvalResult all = evaluate(mesh, sequence[k], everything);
-    EXPECT_EQ(measured.surface_to_medial_max, all.surface_to_medial_max) << k;
-    EXPECT_EQ(measured.medial_to_surface_max, all.medial_to_surface_max) << k;
-    EXPECT_EQ(measured.surface_to_medial_worst, all.surface_to_medial_worst) << k;
-    EXPECT_EQ(measured.medial_to_surface_worst, all.medial_to_surface_worst) << k;
+  // ... and with weights (a density's: from 0.1 on one side to 1 on the other).
+  for (const bool weighted : {false, true}) {
+    EvalOptions options;
+    options.boundary_spacing = 0.01;
+    options.maxima_only = true;
+    if (weighted) {
+      options.surface_samples = 0;
+      for (const Vec3& p : mesh.points)
+        options.point_weights.push_back(0.1 + 0.45 * (p.x() + 1.0));
+    }
+    EvalOptions everything = options;
+    everything.maxima_only = false;
+    Evaluator evaluator(mesh, options);
+    for (std::size_t k = 0; k < sequence.size(); ++k) {
+      if (k == 1) evaluator.keep_memory();  // the state after sequence[0]
+      if (k == 4) evaluator.restore_memory();
+      const EvalResult measured = evaluator(sequence[k]);
+      const EvalResult all = evaluate(mesh, sequence[k], everything);
+      EXPECT_EQ(measured.surface_to_medial_max, all.surface_to_medial_max) << k << weighted;
+      EXPECT_EQ(measured.medial_to_surface_max, all.medial_to_surface_max) << k << weighted;
+      EXPECT_EQ(measured.surface_to_medial_worst, all.surface_to_medial_worst) << k << weighted;
+      EXPECT_EQ(measured.medial_to_surface_worst, all.medial_to_surface_worst) << k << weighted;
+    }
   }
 }
 
@@ -788,7 +796,8 @@ TEST(Evaluator, PointWeightsScaleTheDistancesOfBothSides) {
   options.surface_samples = 0;
   for (const double light_side : {1.0, -1.0}) {
     options.point_weights.clear();
-    for (const Vec3& p : mesh.points) options.point_weights.push_back(p.x() * light_side > 0 ? 0.25 : 1.0);
+    for (const Vec3& p : mesh.points)
+      options.point_weights.push_back(p.x() * light_side > 0 ? 0.25 : 1.0);
     const EvalResult result = Evaluator(mesh, options)(medial);
     EXPECT_NEAR(result.surface_to_medial_max, 0.1, 3e-3);
     EXPECT_NEAR(result.medial_to_surface_max, 0.1, 3e-3);

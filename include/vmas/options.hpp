@@ -294,8 +294,10 @@ struct EvalOptions {
   // solid can do, come near data across an opening, is not counted; what it can, cover the data
   // and not bulge out past the rims, is. The refinement measures an open cloud so.
   std::vector<Vec3> lid_points;
-  // Weights in [0, 1] of the input points' surface -> medial distances (empty: all 1), which the
-  // maxima, the worst points and ε then are of: a density field's (d / d_max)², so that where
+  // Weights in [0, 1], one per input point (empty: all 1): each surface -> medial distance is
+  // its point's times its weight, each medial -> surface distance times the weight of the point
+  // nearest to the boundary sample; every figure (maxima, worst points, means, vertex_error,
+  // boundary_error, ε) is then of the weighted distances. A density field's (d / d_max)²: where
   // spheres are asked to be finer their error counts more (docs/design.md, "Density"). Needs
   // surface_samples 0 (random samples have no weight).
   std::vector<double> point_weights;

@@ -67,8 +67,8 @@ struct Shape {
   // the refinement's removals weigh by.
   double error_weight(int v) const { return error_weights.empty() ? 1.0 : error_weights[v]; }
   // The weight of a distance to or from vertex v (the square root of error_weight's, an energy's)
-  // for every vertex, as the refinement measures (EvalOptions::point_weights; empty without a
-  // density, or with a uniform one).
+  // for every vertex, as the choice of a start measures (EvalOptions::point_weights; empty
+  // without a density, or with a uniform one).
   std::vector<double> distance_weights() const {
     if (std::all_of(error_weights.begin(), error_weights.end(), [](double w) { return w == 1.0; }))
       return {};

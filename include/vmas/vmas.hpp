@@ -49,7 +49,10 @@ struct Result {
                                 // data, its holes closed by lids (the refinement's measure),
                                 // fraction of its diagonal
   SmoothingCheck smoothing_check;
-  std::vector<double> start_errors;  // measured_error of every start, in order (Options::starts)
+  // measured_error of every start, in order (Options::starts); with a density (and more than one
+  // start), that error with each distance weighed by it, which the start kept is chosen by
+  // (docs/design.md, "Density").
+  std::vector<double> start_errors;
   int start_kept = 0;                // which of them is the result
   Timings seconds;
   std::vector<Warning> warnings;
@@ -97,8 +100,7 @@ class InputRows {
 };
 // What skeletonize()'s refinement measures a prepared shape with: refinement_eval_options() of
 // its smoothing, on a smoothed mesh about smoothed_points_needed() of its vertices, and on a
-// cloud with holes lids across them (EvalOptions::lid_points), and with a density its distances
-// weighed by it (EvalOptions::point_weights: Shape::distance_weights).
+// cloud with holes lids across them (EvalOptions::lid_points).
 EvalOptions refinement_eval_options(const PreparedShape& prepared);
 
 // What skeletonize() keeps of the runs on a prepared shape: its starts (options.starts, side by

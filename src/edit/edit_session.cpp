@@ -302,9 +302,6 @@ void EditSession::Impl::use_density(std::shared_ptr<const std::vector<double>> d
   skeletonizer_->set_density(density ? *density : std::vector<double>());
   density_ = std::move(density);
   ++density_changes_;
-  // The refinement weighs its measure by the density: built again for the new one.
-  finish_options_.measure.point_weights = skeletonizer_->shape().distance_weights();
-  evaluator_.reset();
 }
 
 bool EditSession::Impl::paint_density(int vertex, double radius, double amount) {

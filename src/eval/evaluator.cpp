@@ -48,7 +48,8 @@ class PointWeights {
   void apply(const std::vector<Vec3>& samples, std::vector<double>& distances) const {
     const auto count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) distances[i] *= weights_[tree_.nearest(samples[i])];
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+      distances[i] *= weights_[tree_.nearest(samples[i])];
   }
 
  private:
@@ -519,8 +520,14 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // Only the maximum is wanted: samples stop at the first piece nearer than a share of the last
   // maximum, and are measured again exactly in the rare case that the maximum is below that (an
   // estimate is at most the maximum).
-  // A weight is at most 1: a distance below the threshold stays below it weighted.
-  const double below = stop_threshold(options, impl_->last_surface_max);
+  // A weight is at most 1: a distance below the threshold stays below it weighted. But the
+  // estimates, of unweighted distances, could exceed the weighted maxima: with weights the first
+  // measurement is exact.
+  const auto threshold = [&](double last) {
+    const double stop = stop_threshold(options, last);
+    return stop == kEstimate && !impl_->weights.empty() ? 0.0 : stop;
+  };
+  const double below = threshold(impl_->last_surface_max);
   std::vector<double> weighted;
   const auto surface_side = [&](double stop_below) -> const std::vector<double>& {
     const std::vector<double>& distances = impl_->surface_side(envelope, stop_below);
@@ -545,18 +552,21 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // share of the last measurement's smallest of those, and are measured again exactly in the
   // rare case that fewer are above it.
   const std::size_t refined = static_cast<std::size_t>(options.refined_samples);
-  const double boundary_below = stop_threshold(options, impl_->last_refined_least);
+  const double boundary_below = threshold(impl_->last_refined_least);
   BoundarySamples boundary;
   std::vector<double> to_surface;
-  impl_->boundary_side(envelope, spacing, tolerance, boundary_below, boundary, to_surface);
+  // Weighted, a distance at or above the threshold was one before: it is exact.
+  const auto boundary_side = [&](double stop_below) {
+    boundary = {};
+    impl_->boundary_side(envelope, spacing, tolerance, stop_below, boundary, to_surface);
+    if (impl_->boundary_weights) impl_->boundary_weights->apply(boundary.points, to_surface);
+  };
+  boundary_side(boundary_below);
   if (boundary_below > 0.0 &&
       static_cast<std::size_t>(std::count_if(to_surface.begin(), to_surface.end(), [&](double d) {
         return d >= boundary_below;
-      })) < std::min(refined, to_surface.size())) {
-    boundary = {};
-    impl_->boundary_side(envelope, spacing, tolerance, 0.0, boundary, to_surface);
-  }
-  if (impl_->boundary_weights) impl_->boundary_weights->apply(boundary.points, to_surface);
+      })) < std::min(refined, to_surface.size()))
+    boundary_side(0.0);
   impl_->last_refined_least = least_of_largest(to_surface, refined);
   std::tie(result.medial_to_surface_max, result.medial_to_surface_mean) = max_and_mean(to_surface);
   result.medial_to_surface_worst = worst_point(boundary.points, to_surface);
