@@ -178,7 +178,7 @@ void print_summary(const json& s, const Settings& settings, std::ostream& out) {
   if (starts.size() > 1) {
     // With a density, they are ranked by the error it weighs (docs/design.md, "Density").
     out << "starts: measured epsilon"
-        << (s["density"]["given"].get<bool>() ? " (density-weighted)" : "");
+        << (s["starts"]["density_weighted"].get<bool>() ? " (density-weighted)" : "");
     for (const json& error : starts) out << (&error == &starts[0] ? " " : " / ") << error << " %";
     out << "; start " << s["starts"]["kept"] << " kept\n";
   }

@@ -585,7 +585,7 @@ TEST(Eval, MaximaAreExactWhateverWasMeasuredBeforeOrKept) {
     if (weighted) {
       options.surface_samples = 0;
       for (const Vec3& p : mesh.points)
-        options.point_weights.push_back(0.1 + 0.45 * (p.x() + 1.0));
+        options.point_weights.push_back(std::min(1.0, 0.1 + 0.45 * (p.x() + 1.0)));
     }
     EvalOptions everything = options;
     everything.maxima_only = false;

@@ -299,7 +299,9 @@ struct EvalOptions {
   // nearest to the boundary sample; every figure (maxima, worst points, means, vertex_error,
   // boundary_error, ε) is then of the weighted distances. A density field's (d / d_max)²: where
   // spheres are asked to be finer their error counts more (docs/design.md, "Density"). Needs
-  // surface_samples 0 (random samples have no weight).
+  // surface_samples 0 (random samples have no weight). The medial side's maximum is refined
+  // around its largest samples as without weights; where the weights jump it can lie more than
+  // a spacing above them.
   std::vector<double> point_weights;
 
   void validate() const;  // throws InvalidOption

@@ -7,7 +7,6 @@
 // Sphere ids are indices into spheres(); removing a sphere shifts the later ids down by one.
 // Keys name spheres for their life: a sphere keeps its key whatever is added or removed.
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -66,16 +65,6 @@ struct Shape {
   // uniform one: such a field changes nothing to the bit): what the fits, the split seeds and
   // the refinement's removals weigh by.
   double error_weight(int v) const { return error_weights.empty() ? 1.0 : error_weights[v]; }
-  // The weight of a distance to or from vertex v (the square root of error_weight's, an energy's)
-  // for every vertex, as the choice of a start measures (EvalOptions::point_weights; empty
-  // without a density, or with a uniform one).
-  std::vector<double> distance_weights() const {
-    if (std::all_of(error_weights.begin(), error_weights.end(), [](double w) { return w == 1.0; }))
-      return {};
-    std::vector<double> weights;
-    for (double w : error_weights) weights.push_back(std::sqrt(w));
-    return weights;
-  }
   // Sets `density` (checked by the caller: vmas::check_density), `density_max` and
   // `error_weights`.
   void set_density(std::vector<double> values) {

@@ -49,10 +49,11 @@ struct Result {
                                 // data, its holes closed by lids (the refinement's measure),
                                 // fraction of its diagonal
   SmoothingCheck smoothing_check;
-  // measured_error of every start, in order (Options::starts); with a density (and more than one
-  // start), that error with each distance weighed by it, which the start kept is chosen by
-  // (docs/design.md, "Density").
+  // measured_error of every start, in order (Options::starts); with start_errors_weighted, that
+  // error with each distance weighed by the density (more than one start, a field that is not
+  // uniform), which the start kept is chosen by (docs/design.md, "Density").
   std::vector<double> start_errors;
+  bool start_errors_weighted = false;
   int start_kept = 0;                // which of them is the result
   Timings seconds;
   std::vector<Warning> warnings;

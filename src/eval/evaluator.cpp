@@ -43,8 +43,8 @@ struct PieceSamples {  // medial -> surface: the uniform samples of one boundary
 // by the weight of the input point nearest to it.
 class PointWeights {
  public:
-  PointWeights(const std::vector<Vec3>& points, const std::vector<double>& weights)
-      : tree_(points), weights_(weights) {}
+  PointWeights(const std::vector<Vec3>& points, std::vector<double> weights)
+      : tree_(points), weights_(std::move(weights)) {}
   void apply(const std::vector<Vec3>& samples, std::vector<double>& distances) const {
     const auto count = static_cast<std::ptrdiff_t>(samples.size());
 #pragma omp parallel for schedule(static)
@@ -54,7 +54,7 @@ class PointWeights {
 
  private:
   KdTree tree_;
-  const std::vector<double>& weights_;
+  std::vector<double> weights_;
 };
 
 }  // namespace internal

@@ -5,6 +5,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <future>
@@ -282,6 +283,22 @@ PreparedShape prepare_with_progress(SurfaceInput input, const Options& options,
 
 }  // namespace
 
+namespace {
+
+// The weight of a distance to or from each vertex of `shape` with a density: (d / d_max)², the
+// square root of Shape::error_weight's, an energy's (EvalOptions::point_weights; empty without a
+// density, or with a uniform one).
+std::vector<double> distance_weights(const Shape& shape) {
+  if (std::all_of(shape.error_weights.begin(), shape.error_weights.end(),
+                  [](double w) { return w == 1.0; }))
+    return {};
+  std::vector<double> weights;
+  for (double w : shape.error_weights) weights.push_back(std::sqrt(w));
+  return weights;
+}
+
+}  // namespace
+
 EvalOptions refinement_eval_options(const PreparedShape& prepared) {
   const PrepareReport& report = prepared.result.prepare;
   EvalOptions measure = refinement_eval_options(report.smoothed());
@@ -342,6 +359,7 @@ struct Pass {
   // What the starts are ranked by: result.measured_error, or with a density that error weighed
   // by it (docs/design.md, "Density").
   double start_error = 0.0;
+  bool start_error_weighted = false;
   // The triangles of result.medial_mesh whose clusters meet nowhere on the shape (sorted
   // spheres): those that may fill a handle's loop.
   std::vector<std::array<int, 3>> meeting_nowhere;
@@ -435,13 +453,16 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   // The refinement measures unweighted (weighted, it let a sparse region's part go uncovered:
   // armadillo, 4 : 1 on its top, ε 3.35 -> 9.71 %); the start kept is the one that serves the
   // density best.
-  const std::vector<double> weights = skeletonizer.shape().distance_weights();
+  std::vector<double> weights = distance_weights(skeletonizer.shape());
   if (options.starts > 1 && !weights.empty() && result.prepare.diagonal > 0.0) {
+    const auto weighing_start = Clock::now();
     EvalOptions weighted = measure;
-    weighted.point_weights = weights;
+    weighted.point_weights = std::move(weights);
     pass.start_error =
         evaluate(prepared.surface, skeletonizer.adjacency_mesh(), weighted).hausdorff /
         result.prepare.diagonal;
+    pass.start_error_weighted = true;
+    result.seconds.refine += seconds_since(weighing_start);  // a measurement, as the refinement's
   }
   // A mesh without boundary, non-manifold or misoriented edges bounds a volume: its winding
   // number is exactly 1 inside, however long and thin its triangles (the estimate from the
@@ -591,6 +612,7 @@ Pass best_of_starts(PreparedShape prepared, std::size_t input_points, const Opti
   }
   kept.result.start_kept = static_cast<int>(best);
   kept.result.start_errors = std::move(errors);
+  kept.result.start_errors_weighted = kept.start_error_weighted;
   // Side by side, the other starts' time is hidden in this one's.
   kept.result.seconds.other_starts = side_by_side ? 0.0 : others_seconds;
   return kept;

@@ -36,7 +36,7 @@ double squared_length(const SurfaceInput& mesh, int a, int b) {
 
 // A long, thin face: what a CAD exporter leaves across a flat face or along a straight wall. A
 // well-shaped face samples its part of the surface as evenly as the rest, unless it is so large
-// that the whole mesh has only a few hundred vertices (a low-poly model: too few for its spheres).
+// that the whole mesh has only about a hundred vertices (a low-poly model: too few for its spheres).
 bool coarse_face(const SurfaceInput& mesh, const std::array<int, 3>& f, double spacing) {
   const double longest =
       std::sqrt(std::max({squared_length(mesh, f[0], f[1]), squared_length(mesh, f[1], f[2]),
