@@ -204,6 +204,7 @@ json preparation_summary(const Result& prepared, int points) {
           {"stray_clusters", report.stray_clusters},
           {"noise_percent", std::round(1e4 * report.noise.sigma / diagonal) / 1e2},
           {"smoothed", report.smoothed()},
+          {"noise_from_facets", report.noise_from_facets},
           {"warnings", warnings}};
 }
 

@@ -113,13 +113,13 @@ void print_preparation(const json& s, const Settings& settings, std::ostream& ou
         << " vertices (edges longer than " << sampling["edge_limit_percent"]
         << " % of the diagonal split; --no-mesh-sampling keeps the mesh as it is)\n";
   if (s["outliers"].get<int>() > 0) out << "outliers: removed " << s["outliers"] << " points\n";
-  if (noise["measured"].get<bool>())
+  if (noise["from_facets"].get<bool>())
+    out << "noise: not read (point spacing " << noise["spacing_percent"]
+        << " % of the diagonal: too far apart to tell noise from facets); not smoothed\n";
+  else if (noise["measured"].get<bool>())
     out << "noise: ~" << noise["deviation_percent"] << " % of the diagonal (point spacing "
         << noise["spacing_percent"] << " %)"
-        << (noise["from_facets"].get<bool>()
-                ? std::string("; not smoothed: its vertices are too far apart to tell noise from "
-                              "facets")
-            : !noise["smoothed"].get<bool>() ? std::string("; not smoothed")
+        << (!noise["smoothed"].get<bool>() ? std::string("; not smoothed")
             : noise["mesh_smoothing_steps"].get<int>() > 0
                 ? "; smoothed along the faces (" + noise["mesh_smoothing_steps"].dump() +
                       " Taubin steps, left ~" + noise["residual_percent"].dump() + " %)"
