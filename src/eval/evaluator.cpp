@@ -112,13 +112,18 @@ double stop_threshold(const EvalOptions& options, double last) {
   return last > 0.0 ? kStopShare * last : kEstimate;
 }
 
-// The largest distance of every kEstimateStride-th sample to the pieces of `envelope`.
-double sparse_maximum(const Envelope& envelope, const std::vector<Vec3>& samples) {
+// The largest distance of every kEstimateStride-th sample to the pieces of `envelope`, times
+// the sample's weight (`weights`: one per sample, or empty).
+double sparse_maximum(const Envelope& envelope, const std::vector<Vec3>& samples,
+                      const std::vector<double>& weights) {
   const auto strides = static_cast<std::ptrdiff_t>(samples.size() / kEstimateStride);
   double largest = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : largest)
-  for (std::ptrdiff_t k = 0; k < strides; ++k)
-    largest = std::max(largest, envelope.boundary_distance(samples[k * kEstimateStride]));
+  for (std::ptrdiff_t k = 0; k < strides; ++k) {
+    const auto i = static_cast<std::size_t>(k) * kEstimateStride;
+    const double distance = envelope.boundary_distance(samples[i]);
+    largest = std::max(largest, weights.empty() ? distance : distance * weights[i]);
+  }
   return largest;
 }
 
@@ -336,7 +341,7 @@ EvalResult evaluate(const SurfaceInput& shape, const MedialMesh& medial,
 // pieces can be nearer.
 const std::vector<double>& Evaluator::Impl::surface_side(const Envelope& envelope,
                                                           double below) {
-  if (below == kEstimate) below = kStopShare * sparse_maximum(envelope, samples);
+  if (below == kEstimate) below = kStopShare * sparse_maximum(envelope, samples, weights);
   const bool reuse = !memory.surface.distance.empty();
   FreshPrimitives fresh_pieces;
   if (reuse)
@@ -456,8 +461,10 @@ void Evaluator::Impl::boundary_side(const Envelope& envelope, double spacing, do
     std::vector<Vec3> some;
     for (std::size_t k = 0; k < unmeasured.size(); k += kEstimateStride)
       some.push_back(unmeasured[k]);
-    below = kStopShare *
-            least_of_largest(distance(some), static_cast<std::size_t>(options.refined_samples));
+    std::vector<double> estimates = distance(some);
+    if (boundary_weights) boundary_weights->apply(some, estimates);
+    const auto refined = static_cast<std::size_t>(options.refined_samples);
+    below = kStopShare * least_of_largest(std::move(estimates), refined);
   }
   const std::vector<double> measured = distance(unmeasured, below);
   for (std::size_t k = 0; k < slots.size(); ++k)
@@ -520,14 +527,9 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // Only the maximum is wanted: samples stop at the first piece nearer than a share of the last
   // maximum, and are measured again exactly in the rare case that the maximum is below that (an
   // estimate is at most the maximum).
-  // A weight is at most 1: a distance below the threshold stays below it weighted. But the
-  // estimates, of unweighted distances, could exceed the weighted maxima: with weights the first
-  // measurement is exact.
-  const auto threshold = [&](double last) {
-    const double stop = stop_threshold(options, last);
-    return stop == kEstimate && !impl_->weights.empty() ? 0.0 : stop;
-  };
-  const double below = threshold(impl_->last_surface_max);
+  // With weights, each figure (the last maxima, the estimates) is of weighted distances, and a
+  // weight is at most 1: a distance below the threshold stays below it weighted.
+  const double below = stop_threshold(options, impl_->last_surface_max);
   std::vector<double> weighted;
   const auto surface_side = [&](double stop_below) -> const std::vector<double>& {
     const std::vector<double>& distances = impl_->surface_side(envelope, stop_below);
@@ -552,7 +554,7 @@ EvalResult Evaluator::operator()(const MedialMesh& medial) {
   // share of the last measurement's smallest of those, and are measured again exactly in the
   // rare case that fewer are above it.
   const std::size_t refined = static_cast<std::size_t>(options.refined_samples);
-  const double boundary_below = threshold(impl_->last_refined_least);
+  const double boundary_below = stop_threshold(options, impl_->last_refined_least);
   BoundarySamples boundary;
   std::vector<double> to_surface;
   // Weighted, a distance at or above the threshold was one before: it is exact.

@@ -438,7 +438,8 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
   const auto connectivity_start = Clock::now();
   // Every triangle until skeletonize() ends: the choice of a start and the check of the
   // smoothing measure what the refinement measured.
-  result.medial_mesh = result.prepare.frame.to_input(skeletonizer.adjacency_mesh());
+  const MedialMesh working_mesh = skeletonizer.adjacency_mesh();  // in the shape's frame
+  result.medial_mesh = result.prepare.frame.to_input(working_mesh);
   // What open_missing_loops may take out, where a loop is missing (only a closed mesh's genus is
   // known); without_cavities keeps the loops, so this mesh's count is the written one's. A tunnel
   // through solid deeper than the skeleton's measured error would raise that error.
@@ -459,7 +460,7 @@ Pass run_pass(PreparedShape prepared, const Options& options, const ProgressCall
     EvalOptions weighted = measure;
     weighted.point_weights = std::move(weights);
     pass.start_error =
-        evaluate(prepared.surface, skeletonizer.adjacency_mesh(), weighted).hausdorff /
+        evaluate(prepared.surface, working_mesh, weighted).hausdorff /
         result.prepare.diagonal;
     pass.start_error_weighted = true;
     result.seconds.refine += seconds_since(weighing_start);  // a measurement, as the refinement's

@@ -200,10 +200,10 @@ std::vector<Vec3> lid_points(const std::vector<Vec3>& rim, const RimPlane& plane
 std::vector<Vec3> lid_points(const std::vector<Hole>& holes, const std::vector<Vec3>& points,
                              double spacing) {
   std::vector<Vec3> lids;
+  const int per_hole = std::max(1, kLidPoints / std::max(1, static_cast<int>(holes.size())));
   for (const Hole& hole : holes) {
     const std::vector<Vec3> rim = rim_points(hole, points);
-    const std::vector<Vec3> lid = lid_points(rim, rim_plane(rim, points), spacing,
-                                             std::max(1, kLidPoints / static_cast<int>(holes.size())));
+    const std::vector<Vec3> lid = lid_points(rim, rim_plane(rim, points), spacing, per_hole);
     lids.insert(lids.end(), lid.begin(), lid.end());
   }
   return lids;

@@ -19,10 +19,10 @@ struct MeshSampling {
 // A mesh is coarse when more than 1 % of its area lies in long, thin faces: an edge longer than
 // three times the spacing s = √(area / 10 000) of 10 000 points spread evenly over the mesh, and
 // the face's height on it less than a quarter of it; or in faces of any shape with an edge longer
-// than 10 s (a low-poly model: about a hundred evenly spread vertices or fewer; CGAL's double torus
-// of 231 uneven ones fell into 49 pieces at 100 spheres). (A mesh of a few thousand well-shaped faces is left alone: sampling
-// it gave worse skeletons than its own vertices.) Its faces are then
-// sampled in rounds until no edge can be split:
+// than 10 s (a low-poly model: about a hundred evenly spread vertices or fewer; CGAL's double
+// torus of 231 uneven ones fell into 49 pieces at 100 spheres). A mesh of well-shaped faces
+// shorter than that is left alone: sampling it gave worse skeletons than its own vertices. Its
+// faces are then sampled in rounds until no edge can be split:
 //  - an edge longer than 1.5 s is split at its midpoint, unless a vertex on the same side of the
 //    surface (its normal not facing away) lies within 0.75 s of it: of the long sides of a fan of
 //    slivers, one in a few gets vertices, and the new vertices are 0.75 s apart at least, so
